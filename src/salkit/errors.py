@@ -1,0 +1,34 @@
+"""Errors that the command line turns into a clear message and exit status 2."""
+from __future__ import annotations
+
+
+class SalkitError(Exception):
+    """Base class of every error salkit reports to a user without a traceback."""
+
+    exit_code = 2
+
+
+class ScenarioError(SalkitError):
+    """A scenario field has a bad value.
+
+    Parameters
+    ----------
+    field : str
+        Dotted path of the field, for example ``waveform.bandwidth``.
+    value : object
+        The offending value.
+    constraint : str
+        What the value must satisfy.
+    """
+
+    def __init__(self, field: str, value: object, constraint: str):
+        self.field, self.value, self.constraint = field, value, constraint
+        super().__init__(f"{field} = {value!r}: {constraint}")
+
+
+class SamplingError(ScenarioError):
+    """Sampling that would alias (PRF, ADC rate, image grid), reported with the numbers."""
+
+
+class DataFileError(SalkitError):
+    """A data file is missing, truncated, of the wrong kind or holds invalid values."""

@@ -1,0 +1,178 @@
+"""Time-domain backprojection for any trajectory (numba, parallel).
+
+For each pulse the phase history P(f) is turned into an upsampled range profile; each pixel at
+differential range dR = |x - p| - R_ref adds profile(dR) * exp(+j 4 pi f_c dR / c).
+
+Precision: |x - p| is computed in float64 from the plane geometry (|x - p|^2 = A + g (B + g) for
+pixels x = o + g r along a range line), differenced against the float64 reference range, and
+only the phase reduced to [-pi, pi) (in cycles, float64) is handed to a float32 sin/cos
+polynomial. The result is exact at 200 km and 560 km range at 1.55 um, where float32 ranges
+(~1.5 cm precision at 200 km) would destroy the image.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import scipy.fft as sfft
+from numba import njit, prange
+
+from ..constants import SPEED_OF_LIGHT
+
+WORKERS = -1
+
+
+@njit(cache=True, inline="always", fastmath=True)
+def _sincos_cycles(y):
+    """sin and cos of 2*pi*y for y in [-0.5, 0.5], float32 polynomial (|error| < 1e-5)."""
+    t = np.float32(math.pi) * y  # in [-pi/2, pi/2]
+    t2 = t * t
+    s = t * (np.float32(1.0) + t2 * (np.float32(-1.0 / 6.0) + t2 * (np.float32(1.0 / 120.0) + t2 * (
+        np.float32(-1.0 / 5040.0) + t2 * np.float32(1.0 / 362880.0)))))
+    c = np.float32(1.0) + t2 * (np.float32(-0.5) + t2 * (np.float32(1.0 / 24.0) + t2 * (
+        np.float32(-1.0 / 720.0) + t2 * (np.float32(1.0 / 40320.0) + t2 * np.float32(-1.0 / 3628800.0)))))
+    return np.float32(2.0) * s * c, np.float32(1.0) - np.float32(2.0) * s * s
+
+
+@njit(parallel=True, cache=True, fastmath=True)
+def bp_kernel(prof_re, prof_im, r0, inv_dr, pos, ref, row_origin, rdir, rg, cyc_per_m, weight,
+              img_re, img_im):
+    """Accumulate a block of pulses into the image.
+
+    Parameters
+    ----------
+    prof_re, prof_im : float32 (P, Nb)
+        Range profiles; bin b is at differential range r0 + b/inv_dr.
+    pos : float64 (P, 3)
+    ref : float64 (P,)
+    row_origin : float64 (nx, 3)
+        3-D point of range coordinate 0 of each azimuth row.
+    rdir : float64 (3,)
+        Unit range axis.
+    rg : float64 (ny,)
+        Range coordinates of the pixels along a row.
+    cyc_per_m : float
+        2 f_c / c, cycles of phase per metre of dR.
+    weight : float32 (nx, P)
+        Per-row, per-pulse weight (azimuth window, beam equalisation); 0 skips.
+    img_re, img_im : float32 (nx, ny), accumulated in place.
+    """
+    nx = row_origin.shape[0]
+    ny = rg.shape[0]
+    P = pos.shape[0]
+    nb = prof_re.shape[1]
+    hi = nb - 2.0
+    for i in prange(nx):
+        for p in range(P):
+            w = weight[i, p]
+            if w == 0.0:
+                continue
+            ox = row_origin[i, 0] - pos[p, 0]
+            oy = row_origin[i, 1] - pos[p, 1]
+            oz = row_origin[i, 2] - pos[p, 2]
+            A = ox * ox + oy * oy + oz * oz
+            B = 2.0 * (ox * rdir[0] + oy * rdir[1] + oz * rdir[2])
+            refp = ref[p]
+            pr = prof_re[p]
+            pi_ = prof_im[p]
+            for j in range(ny):
+                g = rg[j]
+                dR = math.sqrt(A + g * (B + g)) - refp
+                x = (dR - r0) * inv_dr
+                valid = np.float32(1.0)
+                if x < 0.0:
+                    x = 0.0
+                    valid = np.float32(0.0)
+                if x > hi:
+                    x = hi
+                    valid = np.float32(0.0)
+                i0 = int(x)
+                fr = np.float32(x - i0)
+                cyc = dR * cyc_per_m
+                cyc = cyc - math.floor(cyc + 0.5)
+                s, c = _sincos_cycles(np.float32(cyc))
+                a0 = pr[i0]
+                b0 = pi_[i0]
+                vr = (a0 + fr * (pr[i0 + 1] - a0)) * valid * w
+                vi = (b0 + fr * (pi_[i0 + 1] - b0)) * valid * w
+                img_re[i, j] += vr * c - vi * s
+                img_im[i, j] += vr * s + vi * c
+
+
+def range_profiles(ph: np.ndarray, freq: np.ndarray, upsample: int, range_window: np.ndarray):
+    """Upsampled range profiles of a phase-history block.
+
+    Returns
+    -------
+    profiles : complex64 (P, Nfft)
+    r0 : float
+        Differential range of bin 0, m.
+    dr : float
+        Bin spacing, m.
+    f_c : float
+        Reference frequency (sample M//2), Hz.
+    """
+    P, M = ph.shape
+    df = float(freq[1] - freq[0])
+    nfft = sfft.next_fast_len(int(M * upsample))
+    buf = np.zeros((P, nfft), np.complex64)
+    idx = (np.arange(M) - M // 2) % nfft
+    buf[:, idx] = ph * range_window[None, :].astype(np.float32)
+    prof = sfft.fftshift(sfft.ifft(buf, axis=1, workers=WORKERS, norm="forward"), axes=1)
+    dr = SPEED_OF_LIGHT / (2.0 * df * nfft)
+    r0 = -(nfft // 2) * dr
+    return prof.astype(np.complex64), r0, dr, float(freq[M // 2])
+
+
+def backproject(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.ndarray,
+                row_origin: np.ndarray, rdir: np.ndarray, rg: np.ndarray, weight: np.ndarray,
+                range_window: np.ndarray, upsample: int = 8, block: int = 64,
+                progress=None) -> np.ndarray:
+    """Backproject a phase history onto a plane grid.
+
+    Parameters
+    ----------
+    ph : complex (P, M)
+        Phase history, P(f) = exp(-j 4 pi f (R - R_ref)/c) per unit scatterer.
+    freq : float64 (M,)
+        Uniform frequency samples, Hz.
+    positions : float64 (P, 3)
+        Antenna positions, m.
+    ref_range : float64 (P,)
+        Reference ranges, m.
+    row_origin : float64 (nx, 3)
+        Point of range coordinate 0 on each azimuth row, m.
+    rdir : float64 (3,)
+        Unit range axis.
+    rg : float64 (ny,)
+        Range coordinates, m.
+    weight : float32 (nx, P)
+        Per-row, per-pulse weights.
+    range_window : float (M,)
+    upsample : int
+        Range-profile upsampling (linear interpolation in between).
+    block : int
+        Pulses per kernel call.
+
+    Returns
+    -------
+    complex64 (nx, ny), not normalised.
+    """
+    nx, ny = row_origin.shape[0], rg.size
+    img_re = np.zeros((nx, ny), np.float32)
+    img_im = np.zeros((nx, ny), np.float32)
+    P = ph.shape[0]
+    rdir = np.ascontiguousarray(rdir, dtype=np.float64)
+    rg = np.ascontiguousarray(rg, dtype=np.float64)
+    row_origin = np.ascontiguousarray(row_origin, dtype=np.float64)
+    for a in range(0, P, block):
+        b = min(P, a + block)
+        prof, r0, dr, f_c = range_profiles(ph[a:b], freq, upsample, range_window)
+        cyc = 2.0 * f_c / SPEED_OF_LIGHT
+        bp_kernel(np.ascontiguousarray(prof.real), np.ascontiguousarray(prof.imag), r0, 1.0 / dr,
+                  np.ascontiguousarray(positions[a:b], dtype=np.float64),
+                  np.ascontiguousarray(ref_range[a:b], dtype=np.float64), row_origin, rdir, rg, cyc,
+                  np.ascontiguousarray(weight[:, a:b], dtype=np.float32), img_re, img_im)
+        if progress is not None:
+            progress(b, P)
+    return img_re + 1j * img_im

@@ -1,0 +1,289 @@
+"""Collection geometry: per-pulse positions, beam pointing and the image plane.
+
+Frame: the scene centre is the origin; x, y horizontal, z up. Every coordinate is float64.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.special import j1
+
+from ..constants import SPEED_OF_LIGHT
+from ..params.models import Grid, Scenario
+
+
+@dataclass(frozen=True)
+class Collection:
+    """Per-pulse geometry of a collection.
+
+    Attributes
+    ----------
+    slow_time : ndarray, shape (P,)
+        Pulse times, s (0 at the aperture centre).
+    positions : ndarray, shape (P, 3)
+        Antenna phase centre per pulse, m.
+    velocity : ndarray, shape (P, 3)
+        Platform velocity per pulse, m/s.
+    reference_range : ndarray, shape (P,)
+        Dechirp reference range per pulse, m.
+    boresight : ndarray, shape (P, 3)
+        Unit vector of the beam axis per pulse.
+    track : ndarray, shape (3,)
+        Unit vector of the mean track direction.
+    center_position : ndarray, shape (3,)
+        Antenna position at the aperture centre, m.
+    """
+
+    slow_time: np.ndarray
+    positions: np.ndarray
+    velocity: np.ndarray
+    reference_range: np.ndarray
+    boresight: np.ndarray
+    track: np.ndarray
+    center_position: np.ndarray
+
+    @property
+    def n_pulses(self) -> int:
+        """Number of pulses."""
+        return self.positions.shape[0]
+
+
+@dataclass(frozen=True)
+class ImagePlane:
+    """A plane through ``origin`` spanned by ``azimuth`` and ``range`` unit vectors."""
+
+    origin: np.ndarray
+    azimuth: np.ndarray
+    range: np.ndarray
+
+    def points(self, az: np.ndarray, rg: np.ndarray) -> np.ndarray:
+        """3-D points (..., 3) of plane coordinates ``az``, ``rg`` (m), broadcast together."""
+        az = np.asarray(az, dtype=np.float64)[..., None]
+        rg = np.asarray(rg, dtype=np.float64)[..., None]
+        return self.origin + az * self.azimuth + rg * self.range
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    return v / np.linalg.norm(v, axis=-1, keepdims=True)
+
+
+def beam_gain_table(wavelength: float, diameter: float, n: int = 8192, u_max: float = 60.0):
+    """Tabulated two-way amplitude pattern of a circular aperture, ``(2 J1(u)/u)**2``.
+
+    Parameters
+    ----------
+    wavelength : float
+        m.
+    diameter : float
+        Aperture diameter, m.
+
+    Returns
+    -------
+    table : ndarray (n,)
+        Two-way amplitude gain at ``sin(theta) = i * dsin``.
+    dsin : float
+        Step in sin(off-boresight angle).
+    """
+    u = np.linspace(0.0, u_max, n)
+    one_way = np.ones_like(u)
+    nz = u > 0
+    one_way[nz] = 2.0 * j1(u[nz]) / u[nz]
+    dsin = (u_max / (n - 1)) * wavelength / (math.pi * diameter)
+    return (one_way ** 2).astype(np.float64), dsin
+
+
+def _first_null_sin(wavelength: float, diameter: float) -> float:
+    return 1.2196698912665045 * wavelength / diameter
+
+
+def two_way_3db_sin(wavelength: float, diameter: float) -> float:
+    """sin of the half-angle where the two-way power pattern is -3 dB."""
+    # (2 J1(u)/u)^4 = 1/2 -> 2 J1(u)/u = 2**-0.25 ; u = 1.1264...
+    u = 1.126396
+    return u * wavelength / (math.pi * diameter)
+
+
+def footprint(scenario: Scenario) -> float:
+    """Null-to-null azimuth footprint of the beam at the scene centre, m."""
+    p = scenario.platform
+    return 2.0 * _first_null_sin(scenario.waveform.wavelength, p.real_aperture) * _centre_range(scenario)
+
+
+def _centre_range(scenario: Scenario) -> float:
+    p = scenario.platform
+    return p.slant_range / math.cos(math.radians(p.squint_deg))
+
+
+def _track_frame(scenario: Scenario):
+    p = scenario.platform
+    h = math.radians(p.heading_deg)
+    d = np.array([math.cos(h), math.sin(h), 0.0])
+    left = np.array([-math.sin(h), math.cos(h), 0.0])
+    sgn = 1.0 if p.side == "left" else -1.0
+    closest = -sgn * p.standoff * left + np.array([0.0, 0.0, p.altitude])
+    return d, closest
+
+
+def scene_extent_x(scenario: Scenario) -> tuple[float, float]:
+    """Along-track (x) extent of the scene's scatterers, m."""
+    xs = [t.x for t in scenario.scene.points]
+    ext = scenario.scene.extended
+    if ext is not None:
+        xs += [-ext.extent[0] / 2, ext.extent[0] / 2]
+    return (min(xs), max(xs)) if xs else (0.0, 0.0)
+
+
+def build_collection(scenario: Scenario) -> Collection:
+    """Per-pulse positions, reference ranges and beam pointing of a scenario.
+
+    Parameters
+    ----------
+    scenario : Scenario
+
+    Returns
+    -------
+    Collection
+    """
+    p, w = scenario.platform, scenario.waveform
+    centre = np.zeros(3)
+    if p.positions is not None:
+        pos = np.asarray(p.positions, dtype=np.float64)
+        n = pos.shape[0]
+        t = (np.arange(n) - (n - 1) / 2.0) / w.prf
+        vel = np.gradient(pos, t, axis=0)
+        track = _unit(pos[-1] - pos[0])
+        cpos = pos[n // 2]
+    else:
+        d, closest = _track_frame(scenario)
+        R0 = p.slant_range
+        u_c = -R0 * math.tan(math.radians(p.squint_deg))
+        du = p.speed / w.prf
+        if p.mode == "spotlight":
+            L = p.aperture_length
+            if L is None:  # square resolution cell by default
+                L = w.wavelength * _centre_range(scenario) / (2.0 * w.range_resolution)
+        else:
+            L = p.aperture_length
+            if L is None:
+                x0, x1 = scene_extent_x(scenario)
+                L = (x1 - x0) + 1.2 * footprint(scenario)
+        n = int(math.floor(L / du)) + 1
+        n = max(n, 2)
+        u = u_c + (np.arange(n) - (n - 1) / 2.0) * du
+        t = (u - u_c) / p.speed
+        pos = closest[None, :] + u[:, None] * d[None, :]
+        vel = np.broadcast_to(d * p.speed, pos.shape).copy()
+        track = d
+        cpos = closest + u_c * d
+    if p.mode == "spotlight":
+        bore = _unit(centre[None, :] - pos)
+    else:
+        bore = np.broadcast_to(_unit(centre - cpos), pos.shape).copy()
+    rr = scenario.receiver.reference_range
+    if rr is not None:
+        ref = np.full(pos.shape[0], float(rr))
+    elif p.mode == "spotlight":
+        ref = np.linalg.norm(pos - centre, axis=1)
+    else:
+        ref = np.full(pos.shape[0], float(np.linalg.norm(cpos - centre)))
+    return Collection(t, pos, vel, ref, bore, track, cpos)
+
+
+def image_plane(collection: Collection, grid: Grid) -> ImagePlane:
+    """The image plane of ``grid`` for ``collection`` (see :func:`plane_from`)."""
+    return plane_from(collection.track, collection.center_position, grid.plane)
+
+
+def plane_from(track: np.ndarray, center_position: np.ndarray, plane: str = "slant") -> ImagePlane:
+    """Image plane through the scene centre (origin).
+
+    The azimuth axis is the track direction; the range axis lies in the slant plane (through the
+    track and the scene centre) or in the ground plane, pointing away from the platform.
+    The origin is the scene centre; pixel coordinates are measured from it.
+    """
+    a = np.asarray(track, dtype=np.float64)
+    a = a / np.linalg.norm(a)
+    look = -np.asarray(center_position, dtype=np.float64)  # aperture centre -> scene centre
+    perp = look - np.dot(look, a) * a
+    if plane == "ground":
+        perp = perp - np.dot(perp, [0.0, 0.0, 1.0]) * np.array([0.0, 0.0, 1.0])
+    r = perp / np.linalg.norm(perp)
+    return ImagePlane(origin=np.zeros(3), azimuth=a, range=r)
+
+
+def grid_axes(grid: Grid) -> tuple[np.ndarray, np.ndarray]:
+    """Azimuth and range coordinates (m) of the grid pixels, from the scene centre.
+
+    Pixel i sits at ``center[0] + (i - nx//2) * dx`` (likewise range), so the grid centre is a pixel.
+    """
+    az = grid.center[0] + (np.arange(grid.nx) - grid.nx // 2) * grid.dx
+    rg = grid.center[1] + (np.arange(grid.ny) - grid.ny // 2) * grid.dy
+    return az, rg
+
+
+def scene_point_positions(scenario: Scenario) -> np.ndarray:
+    """Ground positions (N, 3) of the scenario's point targets, m."""
+    pts = scenario.scene.points
+    return np.array([[t.x, t.y, t.z] for t in pts], dtype=np.float64).reshape(-1, 3)
+
+
+def truth_positions(scenario: Scenario, collection: Collection | None = None) -> np.ndarray:
+    """Where each point target should appear in the image: (N, 2) azimuth, range (m).
+
+    Coordinates are measured from the scene centre in the image plane. A target appears at the plane point with the same
+    closest-approach position along the track and the same distance from the (straight) track.
+    """
+    col = collection if collection is not None else build_collection(scenario)
+    grid = scenario.processing.grid
+    plane = image_plane(col, grid)
+    pts = scene_point_positions(scenario)
+    a, r = plane.azimuth, plane.range
+    pc = col.center_position
+    out = np.zeros((pts.shape[0], 2))
+    c_rel = plane.origin - pc
+    c_perp = c_rel - np.dot(c_rel, a) * a
+    b = np.dot(c_perp, r)
+    for i, t in enumerate(pts):
+        rel = t - pc
+        az = np.dot(t - plane.origin, a)
+        dist2 = np.dot(rel, rel) - np.dot(rel, a) ** 2
+        rg = -b + math.sqrt(max(b * b - np.dot(c_perp, c_perp) + dist2, 0.0))
+        out[i] = az, rg
+    return out
+
+
+def resolution_theory(scenario: Scenario, collection: Collection | None = None) -> dict:
+    """Theoretical resolutions (m) in the image plane: ``range`` and ``azimuth``.
+
+    Range: c/(2 B_eff) with B_eff = chirp_rate * gate, projected onto the image plane.
+    Azimuth: wavelength / (2 * dtheta_eff), dtheta_eff the angular span of the processed aperture
+    (spotlight: all pulses, N/(N-1) times the end-to-end angle; stripmap: two-way 3 dB beam).
+    """
+    from .sampling import effective_bandwidth
+
+    col = collection if collection is not None else build_collection(scenario)
+    w, p = scenario.waveform, scenario.platform
+    B = effective_bandwidth(scenario, col)
+    rho_r = SPEED_OF_LIGHT / (2.0 * B)
+    plane = image_plane(col, scenario.processing.grid)
+    look = _unit(-col.center_position)
+    cos_proj = abs(float(np.dot(look, plane.range)))
+    rho_r_plane = rho_r / max(cos_proj, 1e-12)
+    lam = w.wavelength
+    if p.mode == "spotlight":
+        u0 = _unit(col.positions[0])
+        u1 = _unit(col.positions[-1])
+        ang = math.acos(min(1.0, float(np.dot(u0, u1))))
+        n = col.n_pulses
+        ang_eff = ang * n / (n - 1)
+        rho_a = lam / (2.0 * ang_eff)
+        aperture = ang_eff * float(np.linalg.norm(col.center_position))
+    else:
+        s3 = two_way_3db_sin(lam, p.real_aperture)
+        ang_eff = 2.0 * math.asin(min(s3, 1.0))
+        rho_a = lam / (2.0 * ang_eff)
+        aperture = ang_eff * float(np.linalg.norm(col.center_position))
+    return {"range": rho_r_plane, "azimuth": rho_a, "slant_range": rho_r,
+            "bandwidth_eff": B, "aperture_length": aperture, "angle": ang_eff}

@@ -1,0 +1,175 @@
+"""Sampling checks made before any work: PRF, ADC rate, ADC gate and image grid."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..constants import SPEED_OF_LIGHT
+from ..errors import SamplingError, ScenarioError
+from ..params.models import Scenario
+from .collection import (Collection, _first_null_sin, build_collection, footprint,
+                         scene_point_positions)
+
+
+def _scene_probe_points(scenario: Scenario) -> np.ndarray:
+    """Points that bound the scene: point targets and the corners/edges of the extended scene."""
+    pts = [scene_point_positions(scenario)]
+    ext = scenario.scene.extended
+    if ext is not None:
+        hx, hy = ext.extent[0] / 2, ext.extent[1] / 2
+        xs, ys = np.meshgrid([-hx, 0.0, hx], [-hy, 0.0, hy])
+        pts.append(np.stack([xs.ravel(), ys.ravel(), np.full(xs.size, ext.height)], axis=1))
+    return np.concatenate(pts, axis=0)
+
+
+def _illuminated(col: Collection, pts: np.ndarray, sin_null: float) -> np.ndarray:
+    """(P, N) mask of probe points inside the first null of the beam."""
+    rel = pts[None, :, :] - col.positions[:, None, :]
+    rel /= np.linalg.norm(rel, axis=2, keepdims=True)
+    cosang = np.einsum("pnk,pk->pn", rel, col.boresight)
+    return cosang >= math.sqrt(max(0.0, 1.0 - sin_null ** 2))
+
+
+def delay_spread(scenario: Scenario, col: Collection | None = None) -> tuple[float, float]:
+    """Min and max differential delay 2(R - R_ref)/c over the illuminated scene, s."""
+    col = col if col is not None else build_collection(scenario)
+    pts = _scene_probe_points(scenario)
+    sin_null = _first_null_sin(scenario.waveform.wavelength, scenario.platform.real_aperture)
+    mask = _illuminated(col, pts, sin_null)
+    dr = np.linalg.norm(pts[None, :, :] - col.positions[:, None, :], axis=2) - col.reference_range[:, None]
+    dr = np.where(mask, dr, np.nan)
+    if np.all(np.isnan(dr)):
+        return 0.0, 0.0
+    return 2.0 * float(np.nanmin(dr)) / SPEED_OF_LIGHT, 2.0 * float(np.nanmax(dr)) / SPEED_OF_LIGHT
+
+
+def adc_gate(scenario: Scenario, col: Collection | None = None) -> float:
+    """ADC window, s: the receiver's, or the pulse width less the scene's delay spread."""
+    g = scenario.receiver.gate
+    if g is not None:
+        return g
+    d0, d1 = delay_spread(scenario, col)
+    return scenario.waveform.pulse_width - 2.0 * max(abs(d0), abs(d1))
+
+
+def n_fast_samples(scenario: Scenario, col: Collection | None = None) -> int:
+    """Number of fast-time samples per pulse, all strictly inside the ADC gate.
+
+    Samples sit at (i - N//2)/adc_rate, so N is the largest count with N//2 samples before the
+    gate centre and N - N//2 - 1 after it, both inside +-gate/2.
+    """
+    gate = adc_gate(scenario, col)
+    fs = scenario.receiver.adc_rate
+    n = int(math.floor(gate * fs)) + 1
+    while n > 2 and ((n // 2) / fs >= 0.5 * gate * (1 - 1e-12) or (n - n // 2 - 1) / fs >= 0.5 * gate):
+        n -= 1
+    return max(n, 2)
+
+
+def effective_bandwidth(scenario: Scenario, col: Collection | None = None) -> float:
+    """Processed bandwidth chirp_rate * (samples / adc_rate), Hz."""
+    return scenario.waveform.rate * n_fast_samples(scenario, col) / scenario.receiver.adc_rate
+
+
+@dataclass(frozen=True)
+class SamplingReport:
+    """Numbers behind the sampling checks (all SI)."""
+
+    doppler_bandwidth: float
+    prf: float
+    beat_bandwidth: float
+    adc_rate: float
+    gate: float
+    delay_min: float
+    delay_max: float
+    resolution_range: float
+    resolution_azimuth: float
+    footprint: float
+
+    def as_dict(self) -> dict:
+        """Plain dict of the numbers."""
+        return dict(self.__dict__)
+
+
+def check_sampling(scenario: Scenario, col: Collection | None = None) -> SamplingReport:
+    """Check that nothing aliases, before any work is done.
+
+    Checks: the PRF against the Doppler bandwidth of the illuminated scene; the ADC rate against
+    the beat bandwidth of the scene's delay spread; the ADC gate against the pulse width; the image
+    grid spacing against the resolution; the algorithm against the mode.
+
+    Raises
+    ------
+    SamplingError
+        With the numbers that failed.
+    """
+    from .collection import resolution_theory
+
+    col = col if col is not None else build_collection(scenario)
+    w, p, rx, proc = scenario.waveform, scenario.platform, scenario.receiver, scenario.processing
+    lam = w.wavelength
+    pts = _scene_probe_points(scenario)
+    sin_null = _first_null_sin(lam, p.real_aperture)
+    # Doppler spread of the illuminated scene, at the worst pulse.
+    mask = _illuminated(col, pts, sin_null)
+    rel = pts[None, :, :] - col.positions[:, None, :]
+    rel /= np.linalg.norm(rel, axis=2, keepdims=True)
+    fd = -2.0 / lam * np.einsum("pnk,pk->pn", rel, col.velocity)
+    fd = np.where(mask, fd, np.nan)
+    lit = np.any(mask, axis=1)
+    if np.any(lit):
+        f_lit = fd[lit]
+        spread = np.nanmax(f_lit, axis=1) - np.nanmin(f_lit, axis=1)
+        bw = float(np.max(spread))
+    else:
+        bw = 0.0
+    if p.mode == "stripmap":  # the whole beam is filled with scene
+        speed = float(np.linalg.norm(col.velocity[col.n_pulses // 2]))
+        bw = max(bw, 4.0 * speed * sin_null / lam)
+    if w.prf < bw * (1 - 1e-9):
+        raise SamplingError("waveform.prf", w.prf,
+                            f"must be >= the Doppler bandwidth of the illuminated scene, {bw:.6g} Hz "
+                            f"(footprint {footprint(scenario):.4g} m)")
+    d0, d1 = delay_spread(scenario, col)
+    gate = adc_gate(scenario, col)
+    if gate <= 0 or gate > w.pulse_width * (1 + 1e-12):
+        raise SamplingError("receiver.gate", gate,
+                            f"must be in (0, pulse_width = {w.pulse_width:.6g} s]; the scene's delay spread "
+                            f"is {d0:.4g} .. {d1:.4g} s")
+    if 2.0 * max(abs(d0), abs(d1)) >= w.pulse_width:
+        raise SamplingError("receiver.reference_range", rx.reference_range,
+                            f"scene delays {d0:.4g} .. {d1:.4g} s relative to the reference exceed the pulse")
+    beat_max = w.rate * max(abs(d0), abs(d1))
+    if rx.iq:
+        need = 2.0 * beat_max
+        if rx.adc_rate < need * (1 - 1e-9):
+            raise SamplingError("receiver.adc_rate", rx.adc_rate,
+                                f"must be >= the beat bandwidth {need:.6g} Hz (I/Q) of the scene's delay "
+                                f"spread {d0:.4g} .. {d1:.4g} s at chirp rate {w.rate:.6g} Hz/s")
+    else:
+        if d0 < 0 < d1:
+            raise SamplingError("receiver.reference_range", rx.reference_range,
+                                "real (non-I/Q) sampling needs the whole scene on one side of the reference "
+                                f"range; delays span {d0:.4g} .. {d1:.4g} s")
+        need = 2.0 * beat_max
+        if rx.adc_rate < need * (1 - 1e-9):
+            raise SamplingError("receiver.adc_rate", rx.adc_rate,
+                                f"must be >= twice the highest beat frequency, {need:.6g} Hz (real sampling)")
+    if proc.algorithm == "pfa" and p.mode != "spotlight":
+        raise ScenarioError("processing.algorithm", "pfa", "the polar format algorithm needs spotlight mode")
+    if proc.algorithm == "omegak" and (p.mode != "stripmap" or p.positions is not None):
+        raise ScenarioError("processing.algorithm", "omegak",
+                            "omega-k needs stripmap mode on a straight track")
+    res = resolution_theory(scenario, col)
+    g = proc.grid
+    if g.dx > res["azimuth"] * (1 + 1e-9):
+        raise SamplingError("processing.grid.dx", g.dx,
+                            f"must be <= the azimuth resolution {res['azimuth']:.6g} m (complex Nyquist)")
+    if g.dy > res["range"] * (1 + 1e-9):
+        raise SamplingError("processing.grid.dy", g.dy,
+                            f"must be <= the range resolution in the image plane {res['range']:.6g} m")
+    return SamplingReport(doppler_bandwidth=bw, prf=w.prf, beat_bandwidth=need, adc_rate=rx.adc_rate,
+                          gate=gate, delay_min=d0, delay_max=d1, resolution_range=res["range"],
+                          resolution_azimuth=res["azimuth"], footprint=footprint(scenario))

@@ -1,0 +1,265 @@
+"""Labelled datasets (xarray) for raw phase histories and focused images; NetCDF4/HDF5 files.
+
+See ``docs/data-format.md`` for the specification. Complex data are stored as the HDF5 compound
+type {r, i} (the nc-complex convention), which ``xarray.open_dataset`` reads back as complex
+through the h5netcdf engine.
+"""
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+import warnings
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from ..errors import DataFileError
+
+FORMAT_VERSION = "1.0"
+RAW_KINDS = ("raw", "phase_history")
+
+
+def _attrs_clean(attrs: dict) -> dict:
+    out = {}
+    for k, v in attrs.items():
+        if v is None:
+            continue
+        if isinstance(v, bool):
+            v = int(v)
+        if isinstance(v, (list, tuple)):
+            v = np.asarray(v, dtype=np.float64)
+        out[k] = v
+    return out
+
+
+def _version() -> str:
+    from .. import __version__
+    return __version__
+
+
+def make_raw_dataset(signal: np.ndarray, collection, fast_time: np.ndarray, scenario,
+                     signal_units: str = "reflectivity", noise: bool = False) -> xr.Dataset:
+    """Build the raw (dechirped fast-time) dataset of a simulated collection.
+
+    Parameters
+    ----------
+    signal : ndarray (P, N) complex64
+        Dechirped samples; ``fast_time`` is relative to the reference delay 2*R_ref/c.
+    collection : Collection
+    fast_time : ndarray (N,)
+        s.
+    scenario : Scenario
+    signal_units : {"reflectivity", "shot_noise"}
+    noise : bool
+        Whether noise was added.
+    """
+    from ..params.scenario import dump_scenario
+
+    w, rx = scenario.waveform, scenario.receiver
+    ds = xr.Dataset(
+        data_vars={
+            "signal": (("slow_time", "fast_time"), signal.astype(np.complex64, copy=False),
+                       {"long_name": "dechirped I/Q signal", "units": signal_units}),
+            "position": (("slow_time", "xyz"), collection.positions,
+                         {"long_name": "antenna phase centre", "units": "m"}),
+            "velocity": (("slow_time", "xyz"), collection.velocity, {"units": "m/s"}),
+            "reference_range": (("slow_time",), collection.reference_range,
+                                {"long_name": "dechirp reference range (one way)", "units": "m"}),
+            "boresight": (("slow_time", "xyz"), collection.boresight, {"units": "1"}),
+        },
+        coords={
+            "slow_time": ("slow_time", collection.slow_time, {"units": "s"}),
+            "fast_time": ("fast_time", fast_time, {"units": "s",
+                                                   "long_name": "time after the reference delay"}),
+            "xyz": ("xyz", ["x", "y", "z"]),
+        },
+        attrs=_attrs_clean({
+            "salkit_kind": "raw",
+            "salkit_format": FORMAT_VERSION,
+            "salkit_version": _version(),
+            "wavelength": w.wavelength,
+            "carrier_frequency": w.carrier_frequency,
+            "chirp_rate": w.rate,
+            "bandwidth": w.bandwidth,
+            "pulse_width": w.pulse_width,
+            "prf": w.prf,
+            "nonlinearity": list(w.nonlinearity) if w.nonlinearity else None,
+            "adc_rate": rx.adc_rate,
+            "iq": rx.iq,
+            "rvp_removed": 0,
+            "mode": scenario.platform.mode,
+            "real_aperture": scenario.platform.real_aperture,
+            "track": collection.track,
+            "center_position": collection.center_position,
+            "scene_center": [0.0, 0.0, 0.0],
+            "signal_units": signal_units,
+            "noise_added": noise,
+            "scenario": dump_scenario(scenario),
+        }),
+    )
+    return ds
+
+
+def make_image_dataset(image: np.ndarray, az: np.ndarray, rg: np.ndarray, plane, attrs: dict,
+                       truth: np.ndarray | None = None) -> xr.Dataset:
+    """Build a focused-image dataset.
+
+    Parameters
+    ----------
+    image : ndarray (n_az, n_rg) complex
+    az, rg : ndarray
+        Azimuth and range coordinates of the pixels in the image plane, m, from the scene centre.
+    plane : ImagePlane
+        Origin and unit axes of the image plane in the scene frame.
+    attrs : dict
+        Parameters to carry (algorithm, window, wavelength, resolutions, scenario...).
+    truth : ndarray (T, 2), optional
+        Expected azimuth/range positions of point targets, m.
+    """
+    data = {"image": (("azimuth", "range"), image.astype(np.complex64, copy=False),
+                      {"long_name": "focused complex image", "units": "1"})}
+    if truth is not None and len(truth):
+        data["target_azimuth"] = (("target",), truth[:, 0], {"units": "m"})
+        data["target_range"] = (("target",), truth[:, 1], {"units": "m"})
+    a = dict(attrs)
+    a.update({"salkit_kind": "image", "salkit_format": FORMAT_VERSION, "salkit_version": _version(),
+              "plane_origin": plane.origin - (plane.origin @ plane.azimuth) * plane.azimuth
+              - (plane.origin @ plane.range) * plane.range,
+              "azimuth_axis": plane.azimuth, "range_axis": plane.range})
+    return xr.Dataset(
+        data_vars=data,
+        coords={"azimuth": ("azimuth", np.asarray(az, np.float64), {"units": "m"}),
+                "range": ("range", np.asarray(rg, np.float64), {"units": "m"})},
+        attrs=_attrs_clean(a),
+    )
+
+
+def write_dataset(ds: xr.Dataset, path: str | Path) -> Path:
+    """Write ``ds`` to NetCDF4/HDF5 atomically (temporary file in the same folder, then rename)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    os.close(fd)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            ds.to_netcdf(tmp, engine="h5netcdf", invalid_netcdf=True)
+        with open(tmp, "rb") as fh:
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return path
+
+
+def write_text_atomic(path: str | Path, text: str) -> Path:
+    """Write a text file atomically."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w") as fh:
+            fh.write(text)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return path
+
+
+def write_json_atomic(path: str | Path, obj: Any) -> Path:
+    """Write JSON atomically (NaN written as null)."""
+    def clean(v):
+        if isinstance(v, dict):
+            return {k: clean(x) for k, x in v.items()}
+        if isinstance(v, (list, tuple)):
+            return [clean(x) for x in v]
+        if isinstance(v, (np.floating, float)):
+            v = float(v)
+            return v if np.isfinite(v) else None
+        if isinstance(v, np.integer):
+            return int(v)
+        return v
+    return write_text_atomic(path, json.dumps(clean(obj), indent=2, allow_nan=False) + "\n")
+
+
+def open_dataset(path: str | Path) -> xr.Dataset:
+    """Open a salkit NetCDF file fully into memory, with clear errors for bad files."""
+    p = Path(path)
+    if not p.is_file():
+        raise DataFileError(f"{p}: file does not exist")
+    try:
+        with xr.open_dataset(p, engine="h5netcdf") as ds:
+            ds = ds.load()
+    except Exception as err:  # noqa: BLE001 - truncated/corrupt files raise many types
+        raise DataFileError(f"{p}: cannot be read as NetCDF4/HDF5 (truncated or corrupt?): "
+                            f"{type(err).__name__}: {err}") from None
+    return ds
+
+
+def _require(ds: xr.Dataset, p, names, kind):
+    for n in names:
+        if n not in ds.variables:
+            raise DataFileError(f"{p}: {kind} file lacks the variable '{n}'")
+
+
+def _finite(ds: xr.Dataset, p, names):
+    for n in names:
+        v = ds[n].values
+        bad = ~np.isfinite(v)
+        if np.any(bad):
+            idx = np.argwhere(bad)[0]
+            raise DataFileError(f"{p}: variable '{n}' holds {int(bad.sum())} non-finite value(s) "
+                                f"(NaN or inf), first at index {tuple(int(i) for i in idx)}")
+
+
+def read_raw(path: str | Path) -> xr.Dataset:
+    """Read and validate a raw phase-history file (kinds ``raw`` or ``phase_history``)."""
+    ds = open_dataset(path)
+    kind = ds.attrs.get("salkit_kind")
+    if kind not in RAW_KINDS:
+        raise DataFileError(f"{path}: attribute salkit_kind = {kind!r}; expected one of {RAW_KINDS}")
+    if kind == "raw":
+        _require(ds, path, ["signal", "position", "reference_range", "fast_time"], "raw")
+        for a in ("wavelength", "chirp_rate", "adc_rate", "prf"):
+            if a not in ds.attrs:
+                raise DataFileError(f"{path}: raw file lacks the attribute '{a}'")
+    else:
+        _require(ds, path, ["signal", "position", "reference_range", "frequency"], "phase_history")
+    if not np.iscomplexobj(ds["signal"].values):
+        raise DataFileError(f"{path}: variable 'signal' must be complex, got {ds['signal'].dtype}")
+    _finite(ds, path, ["signal", "position", "reference_range"])
+    return ds
+
+
+def read_image(path: str | Path) -> xr.Dataset:
+    """Read and validate a focused-image file."""
+    ds = open_dataset(path)
+    if ds.attrs.get("salkit_kind") != "image" and "image" not in ds:
+        raise DataFileError(f"{path}: not a salkit image file (no 'image' variable)")
+    _require(ds, path, ["image", "azimuth", "range"], "image")
+    if ds["image"].dims != ("azimuth", "range"):
+        raise DataFileError(f"{path}: 'image' has dims {ds['image'].dims}; expected ('azimuth', 'range')")
+    _finite(ds, path, ["image"])
+    return ds
+
+
+def describe(path: str | Path) -> dict:
+    """Summary of a salkit file (kind, shapes, key attributes)."""
+    ds = open_dataset(path)
+    info = {"file": str(path), "kind": ds.attrs.get("salkit_kind", "unknown"),
+            "variables": {k: {"dims": list(v.dims), "dtype": str(v.dtype), "shape": list(v.shape)}
+                          for k, v in ds.data_vars.items()}}
+    for k, v in ds.attrs.items():
+        if k == "scenario":
+            continue
+        info[k] = v.tolist() if isinstance(v, np.ndarray) else v
+    return info

@@ -1,0 +1,247 @@
+"""Typed, frozen, validated parameter objects.
+
+Every object is immutable and validated on construction; derived quantities are
+properties. Units are SI (metres, seconds, hertz, radians) unless a field name says
+otherwise (``*_deg`` in degrees).
+"""
+from __future__ import annotations
+
+import math
+from typing import Literal, Optional
+
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+
+from ..constants import SPEED_OF_LIGHT
+
+
+class _Frozen(BaseModel):
+    model_config = ConfigDict(frozen=True, extra="forbid", validate_default=True)
+
+
+# --------------------------------------------------------------------------- waveform
+class Waveform(_Frozen):
+    """Linear-FM (chirp) laser waveform, optionally with a polynomial frequency error.
+
+    The instantaneous optical frequency over a pulse, ``t`` in ``[-pulse_width/2, pulse_width/2]``, is
+    ``f(t) = c/wavelength + chirp_rate*t + sum_n nonlinearity[n-2] * t**n`` (n = 2, 3, ...).
+    """
+
+    wavelength: float = Field(gt=0, lt=1.0, description="centre wavelength, m")
+    bandwidth: float = Field(gt=0, description="swept bandwidth, Hz")
+    pulse_width: float = Field(gt=0, lt=1.0, description="pulse (chirp) duration, s")
+    prf: float = Field(gt=0, description="pulse repetition frequency, Hz")
+    chirp_rate: Optional[float] = Field(default=None, description="Hz/s; defaults to bandwidth/pulse_width")
+    nonlinearity: tuple[float, ...] = Field(
+        default=(), description="coefficients of t**2, t**3, ... in the frequency sweep, Hz/s**n")
+
+    @model_validator(mode="after")
+    def _consistent(self) -> "Waveform":
+        if self.bandwidth >= self.carrier_frequency:
+            raise ValueError(f"bandwidth {self.bandwidth:g} Hz must be below the carrier frequency "
+                             f"{self.carrier_frequency:g} Hz")
+        if self.chirp_rate is not None:
+            expected = self.bandwidth / self.pulse_width
+            if not math.isfinite(self.chirp_rate) or abs(self.chirp_rate - expected) > 1e-6 * expected:
+                raise ValueError(f"chirp_rate {self.chirp_rate:g} Hz/s must equal bandwidth/pulse_width = "
+                                 f"{expected:g} Hz/s")
+        if self.prf * self.pulse_width > 1.0:
+            raise ValueError(f"duty cycle prf*pulse_width = {self.prf * self.pulse_width:g} must be <= 1")
+        return self
+
+    @property
+    def carrier_frequency(self) -> float:
+        """Centre optical frequency c/wavelength, Hz."""
+        return SPEED_OF_LIGHT / self.wavelength
+
+    @property
+    def rate(self) -> float:
+        """Linear chirp rate, Hz/s."""
+        return self.bandwidth / self.pulse_width
+
+    @property
+    def range_resolution(self) -> float:
+        """Slant-range resolution c/(2B), m."""
+        return SPEED_OF_LIGHT / (2.0 * self.bandwidth)
+
+    @property
+    def is_linear(self) -> bool:
+        """True when the chirp has no nonlinearity."""
+        return not any(self.nonlinearity)
+
+
+# --------------------------------------------------------------------------- platform
+class Platform(_Frozen):
+    """Straight-line platform (or explicit per-pulse positions) with its beam pointing.
+
+    Geometry: the scene centre ``scene.center`` is the origin of the ground frame (x, y, z = up).
+    A straight track with ``heading_deg`` = 0 runs along +x at height ``altitude`` and a horizontal
+    ``standoff`` from the scene centre; the scene lies to the ``side`` of the track.
+    """
+
+    mode: Literal["spotlight", "stripmap"] = "spotlight"
+    speed: float = Field(gt=0, description="platform speed, m/s")
+    altitude: float = Field(ge=0, description="height above the scene plane, m")
+    standoff: float = Field(ge=0, description="horizontal distance from track to scene centre, m")
+    heading_deg: float = Field(default=0.0, ge=-360, le=360, description="track direction, deg from +x")
+    side: Literal["left", "right"] = "left"
+    squint_deg: float = Field(default=0.0, gt=-60, lt=60, description="squint of aperture centre, deg")
+    aperture_length: Optional[float] = Field(default=None, gt=0, description=(
+        "synthetic aperture length, m (spotlight); stripmap: collection length, default scene + footprint"))
+    real_aperture: float = Field(gt=0, description="diameter of the (circular) telescope aperture, m")
+    positions: Optional[tuple[tuple[float, float, float], ...]] = Field(
+        default=None, description="explicit antenna position per pulse, m (overrides the straight line)")
+    intra_pulse_motion: bool = Field(default=False, description="model motion during each pulse")
+
+    @model_validator(mode="after")
+    def _geometry(self) -> "Platform":
+        if math.hypot(self.altitude, self.standoff) <= 0:
+            raise ValueError("altitude and standoff cannot both be 0 (zero range to scene centre)")
+        if self.positions is not None and len(self.positions) < 2:
+            raise ValueError(f"positions has {len(self.positions)} pulses; at least 2 are needed")
+        return self
+
+    @property
+    def slant_range(self) -> float:
+        """Range from the track to the scene centre at closest approach, m."""
+        return math.hypot(self.altitude, self.standoff)
+
+
+# --------------------------------------------------------------------------- scene
+class PointTarget(_Frozen):
+    """Point scatterer at ground coordinates (x along track, y across, z up), m."""
+
+    x: float = 0.0
+    y: float = 0.0
+    z: float = 0.0
+    amplitude: float = Field(default=1.0, ge=0, description="reflectivity magnitude (1 = unit cell)")
+    phase: float = Field(default=0.0, description="reflectivity phase, rad")
+
+
+class ExtendedScene(_Frozen):
+    """Distributed scene sampled by scatterers on a regular ground grid."""
+
+    kind: Literal["pattern", "image"] = "pattern"
+    pattern: Literal["letter_I", "bars", "checker", "disk", "uniform"] = "letter_I"
+    file: Optional[str] = Field(default=None, description="image file (PNG/NPY) for kind=image")
+    extent: tuple[float, float] = Field(description="size along x (azimuth) and y (ground range), m")
+    spacing: float = Field(gt=0, description="scatterer spacing, m (below the resolution cell)")
+    speckle: bool = True
+    height: float = Field(default=0.0, description="height of the scene plane, m")
+    amplitude: float = Field(default=1.0, gt=0, description="reflectivity of a bright cell")
+
+    @field_validator("extent")
+    @classmethod
+    def _positive(cls, v):
+        if v[0] <= 0 or v[1] <= 0:
+            raise ValueError(f"extent {v} must be positive in both axes")
+        return v
+
+    @model_validator(mode="after")
+    def _file(self) -> "ExtendedScene":
+        if self.kind == "image" and not self.file:
+            raise ValueError("kind=image needs a file")
+        n = (self.extent[0] / self.spacing) * (self.extent[1] / self.spacing)
+        if n > 5e7:
+            raise ValueError(f"extent/spacing gives {n:.3g} scatterers (> 5e7); increase spacing")
+        return self
+
+
+class Scene(_Frozen):
+    """Point targets and/or an extended scene."""
+
+    points: tuple[PointTarget, ...] = ()
+    extended: Optional[ExtendedScene] = None
+
+    @model_validator(mode="after")
+    def _nonempty(self) -> "Scene":
+        if not self.points and self.extended is None:
+            raise ValueError("the scene needs at least one point target or an extended scene")
+        return self
+
+
+# --------------------------------------------------------------------------- receiver
+class Noise(_Frozen):
+    """Photon-limited heterodyne detection (seed 001, eqs 6-8 and 13-15).
+
+    ``signal_photons`` is N_s: the mean number of signal photons collected over the synthetic
+    aperture from one resolution cell of unit reflectance. The image carrier-to-noise ratio of
+    such a cell is eta_d*eta_mix*N_s and the speckled-image SNR is eta*N_s/(1 + eta*N_s).
+    """
+
+    enabled: bool = False
+    model: Literal["gaussian", "poisson"] = "gaussian"
+    lo_photons: float = Field(default=1e6, gt=0, description="LO photons per pulse window, N_L")
+    signal_photons: float = Field(default=100.0, gt=0, description="N_s per unit cell over the aperture")
+    quantum_efficiency: float = Field(default=1.0, gt=0, le=1, description="eta_d")
+    mixing_efficiency: float = Field(default=1.0, gt=0, le=1, description="eta_mix")
+
+    @property
+    def efficiency(self) -> float:
+        """eta = eta_d * eta_mix."""
+        return self.quantum_efficiency * self.mixing_efficiency
+
+    @property
+    def cnr(self) -> float:
+        """Image carrier-to-noise ratio of a unit-reflectance cell, eta*N_s."""
+        return self.efficiency * self.signal_photons
+
+    @property
+    def snr_theory(self) -> float:
+        """Single-look speckled image SNR eta*N_s/(1 + eta*N_s) (seed 001 eq 14)."""
+        return self.cnr / (1.0 + self.cnr)
+
+
+class Receiver(_Frozen):
+    """Dechirp (stretch) receiver."""
+
+    adc_rate: float = Field(gt=0, description="complex (I/Q) or real sample rate, Hz")
+    reference_range: Optional[float] = Field(default=None, gt=0, description=(
+        "dechirp reference range, m; default: scene centre range per pulse (spotlight), "
+        "constant closest-approach range (stripmap)"))
+    iq: bool = True
+    gate: Optional[float] = Field(default=None, gt=0, description=(
+        "ADC window, s; default pulse_width minus the scene's delay spread"))
+    noise: Noise = Noise()
+
+
+# --------------------------------------------------------------------------- processing
+class Grid(_Frozen):
+    """Image grid on a plane through the scene centre: azimuth (along track) x range."""
+
+    nx: int = Field(gt=1, le=32768, description="number of azimuth samples")
+    ny: int = Field(gt=1, le=32768, description="number of range samples")
+    dx: float = Field(gt=0, description="azimuth spacing, m")
+    dy: float = Field(gt=0, description="range spacing, m")
+    plane: Literal["slant", "ground"] = "slant"
+    center: tuple[float, float] = (0.0, 0.0)
+
+    @property
+    def extent(self) -> tuple[float, float]:
+        """Grid size (azimuth, range), m."""
+        return self.nx * self.dx, self.ny * self.dy
+
+
+class Processing(_Frozen):
+    """Image formation settings."""
+
+    algorithm: Literal["pfa", "bp", "omegak"] = "bp"
+    window: Literal["none", "hamming", "taylor"] = "none"
+    taylor_nbar: int = Field(default=4, ge=1)
+    taylor_sll: float = Field(default=35.0, gt=13.3, description="Taylor sidelobe level, dB")
+    grid: Grid
+    autofocus: Literal["none"] = "none"
+    range_upsample: int = Field(default=8, ge=2, le=64, description="backprojection profile upsampling")
+
+
+# --------------------------------------------------------------------------- scenario
+class Scenario(_Frozen):
+    """A complete simulation and processing scenario."""
+
+    name: str = "scenario"
+    description: str = ""
+    seed: int = Field(default=0, ge=0)
+    waveform: Waveform
+    platform: Platform
+    scene: Scene
+    receiver: Receiver
+    processing: Processing

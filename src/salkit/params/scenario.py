@@ -1,0 +1,135 @@
+"""Scenario files: YAML in, validated frozen objects out; ``--set`` overrides."""
+from __future__ import annotations
+
+import copy
+from pathlib import Path
+from typing import Any, Iterable, Mapping
+
+import yaml
+from pydantic import ValidationError
+
+from ..errors import ScenarioError
+from .models import Scenario
+
+
+def _format_validation(err: ValidationError) -> ScenarioError:
+    first = err.errors()[0]
+    loc = ".".join(str(p) for p in first["loc"]) or "scenario"
+    msg = first["msg"]
+    if msg.startswith("Value error, "):
+        msg = msg[len("Value error, "):]
+    value = first.get("input")
+    if isinstance(value, (dict, list)) and len(repr(value)) > 120:
+        value = f"<{type(value).__name__}>"
+    more = len(err.errors()) - 1
+    if more:
+        msg += f" (and {more} more problem{'s' if more > 1 else ''})"
+    return ScenarioError(loc, value, msg)
+
+
+def parse_scenario(data: Mapping[str, Any]) -> Scenario:
+    """Validate a scenario mapping.
+
+    Parameters
+    ----------
+    data : mapping
+        The parsed YAML document.
+
+    Returns
+    -------
+    Scenario
+
+    Raises
+    ------
+    ScenarioError
+        Naming the field, the value and the constraint.
+    """
+    if not isinstance(data, Mapping):
+        raise ScenarioError("scenario", type(data).__name__, "the document must be a mapping")
+    try:
+        return Scenario.model_validate(dict(data))
+    except ValidationError as err:
+        raise _format_validation(err) from None
+
+
+def apply_overrides(data: Mapping[str, Any], overrides: Iterable[str]) -> dict:
+    """Apply ``key.path=value`` overrides (values parsed as YAML) to a scenario mapping.
+
+    List elements are addressed by index: ``scene.points.0.x=0.3``.
+    """
+    out = copy.deepcopy(dict(data))
+    for item in overrides:
+        if "=" not in item:
+            raise ScenarioError("--set", item, "must have the form key.path=value")
+        path, text = item.split("=", 1)
+        keys = [k for k in path.strip().split(".") if k]
+        if not keys:
+            raise ScenarioError("--set", item, "the key path is empty")
+        try:
+            value = yaml.safe_load(text)
+        except yaml.YAMLError:
+            value = text
+        node: Any = out
+        for i, key in enumerate(keys[:-1]):
+            if isinstance(node, list):
+                try:
+                    node = node[int(key)]
+                except (ValueError, IndexError):
+                    raise ScenarioError(".".join(keys[:i + 1]), key, "is not a valid list index") from None
+            else:
+                if node.get(key) is None:
+                    node[key] = {}
+                node = node[key]
+        last = keys[-1]
+        if isinstance(node, list):
+            try:
+                node[int(last)] = value
+            except (ValueError, IndexError):
+                raise ScenarioError(path, last, "is not a valid list index") from None
+        elif isinstance(node, dict):
+            node[last] = value
+        else:
+            raise ScenarioError(".".join(keys[:-1]), node, "is a value, not a section")
+    return out
+
+
+def read_yaml(path: str | Path) -> dict:
+    """Read a YAML mapping from ``path`` with clear errors."""
+    p = Path(path)
+    if not p.is_file():
+        raise ScenarioError("scenario", str(p), "file does not exist")
+    try:
+        data = yaml.safe_load(p.read_text())
+    except yaml.YAMLError as err:
+        raise ScenarioError("scenario", str(p), f"is not valid YAML ({err})") from None
+    if not isinstance(data, dict):
+        raise ScenarioError("scenario", str(p), "must hold a YAML mapping")
+    return data
+
+
+def load_scenario(path: str | Path, overrides: Iterable[str] = ()) -> Scenario:
+    """Load, override and validate a scenario file.
+
+    Parameters
+    ----------
+    path : str or Path
+        YAML scenario file.
+    overrides : iterable of str
+        ``key.path=value`` strings, applied before validation.
+
+    Returns
+    -------
+    Scenario
+
+    Examples
+    --------
+    >>> sc = load_scenario("examples/spotlight_points.yaml", ["waveform.bandwidth=2e9"])  # doctest: +SKIP
+    """
+    data = apply_overrides(read_yaml(path), overrides)
+    return parse_scenario(data)
+
+
+def dump_scenario(scenario: Scenario) -> str:
+    """The resolved scenario as YAML text (all defaults filled in)."""
+    data = scenario.model_dump(mode="json")
+    return yaml.safe_dump(data, sort_keys=False)
