@@ -1,0 +1,1 @@
+"""Autofocus (phase gradient, minimum entropy): planned; the foundation ships `none`."""

@@ -1,0 +1,197 @@
+"""The ``salkit`` command: a thin layer over the library.
+
+Bad input (scenario fields, data files, sampling) prints one clear line naming the field, the
+value and the constraint, and exits with status 2, never a traceback.
+"""
+from __future__ import annotations
+
+import functools
+import json
+import shutil
+import sys
+from pathlib import Path
+from typing import List, Optional
+
+import typer
+from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+
+from ..errors import SalkitError
+
+app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
+                  help="salkit: synthetic aperture ladar simulation, imaging and metrics.")
+err = Console(stderr=True)
+out = Console()
+
+EXAMPLES_DIR = Path(__file__).resolve().parents[1] / "examples"
+
+
+def _examples_dir() -> Path:
+    for cand in (EXAMPLES_DIR, Path(__file__).resolve().parents[3] / "examples"):
+        if cand.is_dir():
+            return cand
+    return EXAMPLES_DIR
+
+
+def _guard(fn):
+    @functools.wraps(fn)
+    def wrapper(*a, **k):
+        try:
+            return fn(*a, **k)
+        except SalkitError as e:
+            err.print(f"[bold red]error:[/] {e}", highlight=False, markup=True, soft_wrap=True)
+            raise typer.Exit(code=e.exit_code)
+        except KeyboardInterrupt:
+            err.print("interrupted")
+            raise typer.Exit(code=130)
+    return wrapper
+
+
+class _Bar:
+    """Rich progress bar driven by ``progress(stage, done, total)`` callbacks."""
+
+    def __init__(self):
+        self.p = Progress(TextColumn("{task.description:<9}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
+                          TimeElapsedColumn(), TimeRemainingColumn(), console=err, transient=False)
+        self.tasks = {}
+
+    def __enter__(self):
+        self.p.__enter__()
+        return self
+
+    def __exit__(self, *exc):
+        self.p.__exit__(*exc)
+
+    def __call__(self, stage: str, done: int, total: int):
+        if stage not in self.tasks:
+            self.tasks[stage] = self.p.add_task(stage, total=total)
+        self.p.update(self.tasks[stage], completed=done, total=total)
+
+
+def _grid(nx, ny, dx, dy, plane):
+    from ..params.models import Grid
+    from pydantic import ValidationError
+    from ..errors import ScenarioError
+    if nx is None and ny is None and dx is None and dy is None:
+        return None
+    if None in (nx, ny, dx, dy):
+        raise ScenarioError("--nx/--ny/--dx/--dy", (nx, ny, dx, dy), "give all four grid options or none")
+    try:
+        return Grid(nx=nx, ny=ny, dx=dx, dy=dy, plane=plane)
+    except ValidationError as e:
+        f = e.errors()[0]
+        raise ScenarioError(f"--{f['loc'][0]}", f.get("input"), f["msg"]) from None
+
+
+@app.command()
+@_guard
+def run(scenario: Path = typer.Argument(..., help="scenario YAML"),
+        out_dir: Path = typer.Option(..., "--out", help="output folder"),
+        set_: List[str] = typer.Option([], "--set", help="override a field: key.path=value"),
+        algorithm: Optional[str] = typer.Option(None, help="override processing.algorithm")):
+    """Simulate, focus, measure, draw and report one scenario."""
+    from ..params import load_scenario
+    from ..systems.airborne import run as run_system
+    sets = list(set_) + ([f"processing.algorithm={algorithm}"] if algorithm else [])
+    sc = load_scenario(scenario, sets)
+    with _Bar() as bar:
+        m = run_system(sc, out_dir, progress=bar)
+    _summary(m, out_dir)
+
+
+def _summary(m: dict, out_dir: Path):
+    keys = ["irw_range_m", "irw_range_theory_m", "irw_azimuth_m", "irw_azimuth_theory_m", "pslr_range_db",
+            "pslr_azimuth_db", "peak_offset_range_m", "peak_offset_azimuth_m", "peak_phase_error_rad",
+            "image_snr", "image_snr_theory"]
+    for k in keys:
+        if k in m:
+            out.print(f"  {k:<24} {m[k]: .6g}")
+    out.print(f"report: {Path(out_dir) / 'report.html'}")
+
+
+@app.command()
+@_guard
+def simulate(scenario: Path = typer.Argument(..., help="scenario YAML"),
+             out: Path = typer.Option(..., "--out", help="raw NetCDF file to write"),
+             set_: List[str] = typer.Option([], "--set", help="override a field: key.path=value")):
+    """Simulate raw dechirped data and write it to a NetCDF file."""
+    from ..params import load_scenario
+    from ..simulate import simulate as sim
+    from ..io import write_dataset
+    sc = load_scenario(scenario, list(set_))
+    with _Bar() as bar:
+        raw = sim(sc, progress=lambda d, n: bar("simulate", d, n))
+    write_dataset(raw, out)
+    globals()["out"].print(f"wrote {out} ({raw.sizes['slow_time']} pulses x {raw.sizes['fast_time']} samples)")
+
+
+@app.command()
+@_guard
+def focus(raw: Path = typer.Argument(..., help="raw or phase-history NetCDF file"),
+          out_dir: Path = typer.Option(..., "--out", help="output folder"),
+          algorithm: Optional[str] = typer.Option(None, help="bp | pfa | omegak"),
+          window: Optional[str] = typer.Option(None, help="none | hamming | taylor"),
+          nx: Optional[int] = typer.Option(None), ny: Optional[int] = typer.Option(None),
+          dx: Optional[float] = typer.Option(None), dy: Optional[float] = typer.Option(None),
+          plane: str = typer.Option("slant", help="slant | ground")):
+    """Focus a raw file into image.nc, metrics.json, figures and report.html."""
+    from ..io import read_raw
+    from ..systems.airborne import focus_file
+    from ..errors import ScenarioError
+    if algorithm is not None and algorithm not in ("bp", "pfa", "omegak"):
+        raise ScenarioError("--algorithm", algorithm, "must be one of bp, pfa, omegak")
+    if window is not None and window not in ("none", "hamming", "taylor"):
+        raise ScenarioError("--window", window, "must be one of none, hamming, taylor")
+    ds = read_raw(raw)
+    grid = _grid(nx, ny, dx, dy, plane)
+    with _Bar() as bar:
+        m = focus_file(ds, out_dir, algorithm=algorithm, window_name=window, grid=grid, progress=bar)
+    _summary(m, out_dir)
+
+
+@app.command()
+@_guard
+def info(path: Path = typer.Argument(..., help="a salkit NetCDF file or a scenario YAML")):
+    """Describe a data file or a scenario (with its derived quantities)."""
+    if path.suffix.lower() in (".yaml", ".yml"):
+        from ..params import load_scenario
+        from ..geometry import build_collection, check_sampling, resolution_theory
+        sc = load_scenario(path)
+        col = build_collection(sc)
+        rep = check_sampling(sc, col)
+        res = resolution_theory(sc, col)
+        d = {"name": sc.name, "pulses": col.n_pulses, "slant_range_m": sc.platform.slant_range,
+             "resolution_range_m": res["range"], "resolution_azimuth_m": res["azimuth"],
+             "aperture_length_m": res["aperture_length"], **rep.as_dict()}
+    else:
+        from ..io import describe
+        d = describe(path)
+    out.print_json(json.dumps(d, default=str))
+
+
+@app.command()
+@_guard
+def examples(copy_to: Optional[Path] = typer.Option(None, "--copy", help="copy the examples into this folder")):
+    """List the shipped example scenarios (and optionally copy them)."""
+    import yaml
+    d = _examples_dir()
+    files = sorted(d.glob("*.yaml"))
+    for f in files:
+        try:
+            desc = (yaml.safe_load(f.read_text()) or {}).get("description", "")
+        except yaml.YAMLError:
+            desc = "(unreadable)"
+        out.print(f"[bold]{f.name}[/]  {desc}", highlight=False)
+    if copy_to is not None:
+        copy_to.mkdir(parents=True, exist_ok=True)
+        for f in files:
+            shutil.copy2(f, copy_to / f.name)
+        out.print(f"copied {len(files)} examples to {copy_to}")
+
+
+def main():  # pragma: no cover
+    app()
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

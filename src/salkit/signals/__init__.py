@@ -1,0 +1,1 @@
+"""Waveforms, windows, receivers and noise."""

@@ -1,0 +1,1 @@
+"""Seed systems as compositions of the lower layers."""
