@@ -78,7 +78,7 @@ def pfa(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.n
     ends = np.stack([kmin * ur, kmax * ur], axis=1)
     ky_lo, ky_hi = np.max(ends.min(axis=1)), np.min(ends.max(axis=1))
     dky = 2 * np.pi / (ny * dy)
-    nky = min(int(np.floor((ky_hi - ky_lo) / dky)) + 1, ny)
+    nky = min(int(np.floor((ky_hi - ky_lo) / dky)), ny)  # every sample inside the data
     ky_c = 0.5 * (ky_lo + ky_hi)
     ky = ky_c + (np.arange(nky) - nky // 2) * dky
     fpos = (ky[None, :] * c / (4 * np.pi * ur[:, None]) - f0) / df
@@ -90,7 +90,7 @@ def pfa(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.n
     kx_ends = np.stack([ky * ts[0], ky * ts[-1]], axis=1)
     kx_lo, kx_hi = np.max(kx_ends.min(axis=1)), np.min(kx_ends.max(axis=1))
     dkx = 2 * np.pi / (nx * dx)
-    nkx = min(int(np.floor((kx_hi - kx_lo) / dkx)) + 1, nx)
+    nkx = min(int(np.floor((kx_hi - kx_lo) / dkx)), nx)
     kx_c = 0.5 * (kx_lo + kx_hi)
     kx = kx_c + (np.arange(nkx) - nkx // 2) * dkx
     tneed = kx[None, :] / ky[:, None]  # (nky, nkx)

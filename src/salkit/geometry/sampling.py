@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -164,6 +165,13 @@ def check_sampling(scenario: Scenario, col: Collection | None = None) -> Samplin
                             "omega-k needs stripmap mode on a straight track")
     res = resolution_theory(scenario, col)
     g = proc.grid
+    speed = float(np.linalg.norm(col.velocity[col.n_pulses // 2]))
+    r_c = float(np.linalg.norm(col.center_position))
+    unamb = lam * r_c * w.prf / (2.0 * speed)
+    if p.mode == "spotlight" and g.nx * g.dx > unamb * (1 + 1e-9):
+        warnings.warn(f"processing.grid spans {g.nx * g.dx:.4g} m in azimuth, more than the unambiguous "
+                      f"azimuth extent lambda R PRF / 2v = {unamb:.4g} m: targets would repeat in the image",
+                      UserWarning, stacklevel=2)
     if g.dx > res["azimuth"] * (1 + 1e-9):
         raise SamplingError("processing.grid.dx", g.dx,
                             f"must be <= the azimuth resolution {res['azimuth']:.6g} m (complex Nyquist)")

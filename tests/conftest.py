@@ -1,0 +1,69 @@
+"""Shared fixtures: small, fast scenarios built from dicts."""
+from __future__ import annotations
+
+import copy
+from pathlib import Path
+
+import pytest
+
+from salkit.params import parse_scenario
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = ROOT / "examples"
+
+SPOT = {
+    "name": "test_spot", "seed": 1,
+    "waveform": {"wavelength": 1.55e-6, "bandwidth": 7.5e9, "pulse_width": 10e-6, "prf": 25000.0},
+    "platform": {"mode": "spotlight", "speed": 20.0, "altitude": 3000.0, "standoff": 4000.0,
+                 "real_aperture": 0.005, "aperture_length": 0.19375},
+    "scene": {"points": [{"x": 0.0, "y": 0.0, "amplitude": 1.0, "phase": 0.7}]},
+    "receiver": {"adc_rate": 20e6},
+    "processing": {"algorithm": "bp", "grid": {"nx": 128, "ny": 128, "dx": 0.015, "dy": 0.015}},
+}
+
+STRIP = {
+    "name": "test_strip", "seed": 2,
+    "waveform": {"wavelength": 1.55e-6, "bandwidth": 7.5e9, "pulse_width": 10e-6, "prf": 2000.0},
+    "platform": {"mode": "stripmap", "speed": 10.0, "altitude": 3000.0, "standoff": 4000.0,
+                 "real_aperture": 0.03},
+    "scene": {"points": [{"x": 0.1, "y": 0.05, "amplitude": 1.0, "phase": -0.4}]},
+    "receiver": {"adc_rate": 6e6},
+    "processing": {"algorithm": "omegak", "grid": {"nx": 128, "ny": 64, "dx": 0.01, "dy": 0.015}},
+}
+
+GEO = {
+    "name": "test_geo", "seed": 3,
+    "waveform": {"wavelength": 1.55e-6, "bandwidth": 3e9, "pulse_width": 10e-6, "prf": 400.0},
+    "platform": {"mode": "spotlight", "speed": 7.3, "altitude": 0.0, "standoff": 200000.0,
+                 "real_aperture": 0.19, "aperture_length": 3.1},
+    "scene": {"points": [{"x": 0.0, "y": 0.0, "amplitude": 1.0, "phase": -1.2}]},
+    "receiver": {"adc_rate": 12e6},
+    "processing": {"algorithm": "bp", "grid": {"nx": 96, "ny": 96, "dx": 0.04, "dy": 0.04}},
+}
+
+
+def merge(base: dict, **paths) -> dict:
+    """Copy ``base`` and set dotted paths given as keyword args with '__' for '.'."""
+    d = copy.deepcopy(base)
+    for key, value in paths.items():
+        node = d
+        parts = key.split("__")
+        for p in parts[:-1]:
+            node = node.setdefault(p, {})
+        node[parts[-1]] = value
+    return d
+
+
+@pytest.fixture
+def spot():
+    return parse_scenario(SPOT)
+
+
+@pytest.fixture
+def strip():
+    return parse_scenario(STRIP)
+
+
+@pytest.fixture
+def geo():
+    return parse_scenario(GEO)

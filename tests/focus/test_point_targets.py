@@ -1,0 +1,106 @@
+"""Point targets focus to theory with every image-formation algorithm.
+
+IRW within 3 % of 0.886 c/2B and 0.886 lambda R/2L (or the window's broadened value), PSLR within
+0.3 dB of -13.26 dB, peak within 1/10 of a resolution cell of the expected position, peak phase
+within 0.05 rad of the reflectivity phase.
+"""
+import numpy as np
+import pytest
+
+from salkit import focus, measure, simulate
+from salkit.params import parse_scenario
+from salkit.signals.windows import window_ipr
+
+from ..conftest import GEO, SPOT, STRIP, merge
+
+CASES = {
+    "spot-bp": (SPOT, "bp"),
+    "spot-pfa": (SPOT, "pfa"),
+    "spot-offcentre-bp": (merge(SPOT, scene={"points": [{"x": 0.31, "y": -0.27, "z": 0.1, "phase": 2.0}]}), "bp"),
+    "spot-offcentre-pfa": (merge(SPOT, scene={"points": [{"x": 0.31, "y": -0.27, "z": 0.1, "phase": 2.0}]}), "pfa"),
+    "strip-omegak": (STRIP, "omegak"),
+    "geo200km-bp": (GEO, "bp"),
+    "geo200km-pfa": (GEO, "pfa"),
+    "geo560km-bp": (merge(GEO, platform__standoff=560000.0, platform__aperture_length=8.68,
+                          waveform__prf=300.0, platform__real_aperture=0.19), "bp"),
+}
+
+
+def check(m, pslr_tol=0.3):
+    for ax in ("range", "azimuth"):
+        assert m[f"irw_{ax}_m"] == pytest.approx(m[f"irw_{ax}_theory_m"], rel=0.03), ax
+        assert abs(m[f"pslr_{ax}_db"] - m[f"pslr_{ax}_theory_db"]) <= pslr_tol, ax
+        assert abs(m[f"peak_offset_{ax}_m"]) <= 0.1 * m[f"resolution_{ax}_theory_m"], ax
+    assert abs(m["peak_phase_error_rad"]) <= 0.05
+
+
+@pytest.mark.parametrize("case", list(CASES))
+def test_point_target_to_theory(case):
+    base, alg = CASES[case]
+    sc = parse_scenario(merge(base, processing__algorithm=alg))
+    raw = simulate(sc)
+    img = focus(raw, sc.processing)
+    m = measure(img, reflectivity_phase=sc.scene.points[0].phase)
+    assert m["pslr_range_theory_db"] == pytest.approx(-13.26, abs=0.01)
+    check(m)
+    # calibrated amplitude: reflectivity times the two-way beam gain at the aperture centre
+    from scipy.special import j1
+    from salkit.geometry import build_collection
+    col = build_collection(sc)
+    p = sc.scene.points[0]
+    rel = np.array([p.x, p.y, p.z]) - col.center_position
+    sin_off = np.linalg.norm(np.cross(rel / np.linalg.norm(rel), col.boresight[col.n_pulses // 2]))
+    u = np.pi * sc.platform.real_aperture * sin_off / sc.waveform.wavelength
+    g = (2 * j1(u) / u) ** 2 if u > 1e-9 else 1.0
+    if sc.platform.mode == "spotlight":
+        assert m["peak_amplitude"] == pytest.approx(p.amplitude * g, rel=0.02)
+    else:  # stripmap: the beam is equalised over the processed band
+        assert m["peak_amplitude"] == pytest.approx(p.amplitude, rel=0.05)
+
+
+def test_stripmap_backprojection_documented_deviation(strip):
+    """Stripmap BP integrates a 3 dB aperture that slides with the pixel, so its azimuth response is
+    not exactly the sinc of a fixed aperture: measured within 4 % IRW and 0.4 dB PSLR (see
+    docs/validation.md); range, position and phase meet the full tolerances."""
+    sc = parse_scenario(merge(STRIP, processing__algorithm="bp"))
+    m = measure(focus(simulate(sc), sc.processing), reflectivity_phase=sc.scene.points[0].phase)
+    assert m["irw_range_m"] == pytest.approx(m["irw_range_theory_m"], rel=0.03)
+    assert m["irw_azimuth_m"] == pytest.approx(m["irw_azimuth_theory_m"], rel=0.04)
+    assert abs(m["pslr_azimuth_db"] - m["pslr_azimuth_theory_db"]) <= 0.4
+    assert abs(m["peak_offset_azimuth_m"]) <= 0.1 * m["resolution_azimuth_theory_m"]
+    assert abs(m["peak_phase_error_rad"]) <= 0.05
+
+
+@pytest.mark.parametrize("win", ["hamming", "taylor"])
+@pytest.mark.parametrize("alg", ["bp", "pfa"])
+def test_windows_broaden_as_theory(win, alg):
+    sc = parse_scenario(merge(SPOT, processing__algorithm=alg, processing__window=win,
+                              processing__grid={"nx": 128, "ny": 128, "dx": 0.01, "dy": 0.01}))
+    m = measure(focus(simulate(sc), sc.processing), reflectivity_phase=0.7)
+    w = window_ipr(win)
+    assert m["irw_range_theory_m"] == pytest.approx(w["irw_factor"] * m["resolution_range_theory_m"])
+    for ax in ("range", "azimuth"):
+        assert m[f"irw_{ax}_m"] == pytest.approx(m[f"irw_{ax}_theory_m"], rel=0.03)
+        assert abs(m[f"pslr_{ax}_db"] - w["pslr_db"]) <= 1.5
+    assert abs(m["peak_phase_error_rad"]) <= 0.05
+
+
+def test_every_target_of_the_example_at_its_position():
+    from salkit.geometry import truth_positions
+    from salkit.metrics import analyse_point, image_phase_model
+    from salkit.params import load_scenario
+    from ..conftest import EXAMPLES
+    for alg in ("bp", "pfa"):
+        sc = load_scenario(EXAMPLES / "spotlight_points.yaml", [f"processing.algorithm={alg}"])
+        img = focus(simulate(sc), sc.processing)
+        truth = truth_positions(sc)
+        az, rg = img.azimuth.values, img.range.values
+        fn = image_phase_model(img)
+        for (ta, tr), pt in zip(truth, sc.scene.points):
+            pk = (int(np.argmin(abs(az - ta))), int(np.argmin(abs(rg - tr))))
+            m = analyse_point(img.image.values, az, rg, img.attrs["resolution_azimuth"],
+                              img.attrs["resolution_range"], peak=pk, phase_fn=fn)
+            assert abs(m["peak_azimuth_m"] - ta) < 0.1 * img.attrs["resolution_azimuth"]
+            assert abs(m["peak_range_m"] - tr) < 0.1 * img.attrs["resolution_range"]
+            ph = m["peak_phase_flat_rad"] + float(fn(ta, tr))
+            assert abs(np.angle(np.exp(1j * (ph - pt.phase)))) < 0.05

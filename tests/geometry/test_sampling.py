@@ -1,0 +1,88 @@
+import numpy as np
+import pytest
+
+from salkit.errors import SamplingError, ScenarioError
+from salkit.geometry import build_collection, check_sampling, resolution_theory, truth_positions
+from salkit.geometry.sampling import delay_spread, n_fast_samples
+from salkit.params import parse_scenario
+
+from ..conftest import SPOT, STRIP, merge
+
+C = 299792458.0
+
+
+def test_spotlight_resolution_theory(spot):
+    res = resolution_theory(spot)
+    col = build_collection(spot)
+    du = spot.platform.speed / spot.waveform.prf
+    # lambda R / (2 L) with L = N du for N pulses
+    assert res["azimuth"] == pytest.approx(1.55e-6 * 5000 / (2 * col.n_pulses * du), rel=1e-6)
+    assert res["slant_range"] == pytest.approx(C / (2 * res["bandwidth_eff"]))
+    assert res["bandwidth_eff"] == pytest.approx(7.5e9, rel=0.01)
+
+
+def test_reference_range_tracks_scene_centre(spot):
+    col = build_collection(spot)
+    np.testing.assert_allclose(col.reference_range, np.linalg.norm(col.positions, axis=1))
+
+
+def test_truth_positions_slant_plane(spot):
+    sc = parse_scenario(merge(SPOT, scene={"points": [{"x": 0.3, "y": 0.4, "z": 0.0}]}))
+    t = truth_positions(sc)[0]
+    # distance from the track is preserved: slant offset = |(0, 0.4, 0) - track| - R0
+    d = np.hypot(0.4 + 4000.0, 3000.0) - 5000.0
+    assert t[0] == pytest.approx(0.3)
+    assert t[1] == pytest.approx(d, abs=1e-9)
+
+
+def test_all_samples_inside_gate(spot):
+    n = n_fast_samples(spot)
+    d0, d1 = delay_spread(spot)
+    gate = spot.waveform.pulse_width - 2 * max(abs(d0), abs(d1))
+    assert (n // 2) / spot.receiver.adc_rate < gate / 2
+    assert (n - n // 2 - 1) / spot.receiver.adc_rate < gate / 2
+
+
+def test_prf_alias_detected_with_numbers():
+    pts = [{"x": -0.5, "y": 0.0}, {"x": 0.5, "y": 0.0}]  # 1 m of scene in azimuth: ~5.2 kHz
+    sc = parse_scenario(merge(SPOT, waveform__prf=1000.0, scene={"points": pts}))
+    with pytest.raises(SamplingError) as ei:
+        check_sampling(sc)
+    assert ei.value.field == "waveform.prf"
+    assert "Doppler bandwidth" in str(ei.value) and "Hz" in str(ei.value)
+
+
+def test_stripmap_prf_against_beam():
+    sc = parse_scenario(merge(STRIP, waveform__prf=1000.0))  # 4.88 v / D = 1627 Hz
+    with pytest.raises(SamplingError, match="waveform.prf"):
+        check_sampling(sc)
+
+
+def test_adc_alias_detected():
+    sc = parse_scenario(merge(SPOT, scene={"points": [{"x": 0, "y": 1.0}]}, receiver={"adc_rate": 2e6}))
+    with pytest.raises(SamplingError) as ei:
+        check_sampling(sc)
+    assert ei.value.field == "receiver.adc_rate"
+    assert "beat bandwidth" in str(ei.value)
+
+
+def test_grid_coarser_than_resolution():
+    sc = parse_scenario(merge(SPOT, processing={"algorithm": "bp", "grid": {"nx": 64, "ny": 64, "dx": 0.05, "dy": 0.01}}))
+    with pytest.raises(SamplingError, match="processing.grid.dx"):
+        check_sampling(sc)
+
+
+def test_algorithm_mode_mismatch():
+    sc = parse_scenario(merge(SPOT, processing={"algorithm": "omegak", "grid": SPOT["processing"]["grid"]}))
+    with pytest.raises(ScenarioError, match="omega-k needs stripmap"):
+        check_sampling(sc)
+    sc = parse_scenario(merge(STRIP, processing={"algorithm": "pfa", "grid": STRIP["processing"]["grid"]}))
+    with pytest.raises(ScenarioError, match="polar format"):
+        check_sampling(sc)
+
+
+def test_single_point_cannot_alias_but_grid_replicas_warn():
+    sc = parse_scenario(merge(SPOT, waveform__prf=1000.0))
+    with pytest.warns(UserWarning, match="unambiguous azimuth extent"):
+        rep = check_sampling(sc)
+    assert rep.doppler_bandwidth == pytest.approx(0.0, abs=1e-6)
