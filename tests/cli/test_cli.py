@@ -1,0 +1,90 @@
+"""The command line: outputs, flat numeric metrics.json, and exit status 2 without tracebacks."""
+import json
+import subprocess
+import sys
+
+import pytest
+import yaml
+
+from ..conftest import EXAMPLES, SPOT
+
+KEYS = ["irw_range_m", "irw_azimuth_m", "pslr_range_db", "pslr_azimuth_db", "islr_range_db", "islr_azimuth_db",
+        "peak_offset_range_m", "peak_offset_azimuth_m", "irw_range_theory_m", "irw_azimuth_theory_m",
+        "pslr_range_theory_db", "pslr_azimuth_theory_db", "islr_range_theory_db", "islr_azimuth_theory_db",
+        "peak_offset_range_theory_m", "peak_offset_azimuth_theory_m"]
+
+
+def salkit(*args):
+    return subprocess.run([sys.executable, "-m", "salkit.cli.main", *map(str, args)], capture_output=True, text=True)
+
+
+@pytest.fixture
+def scen(tmp_path):
+    p = tmp_path / "s.yaml"
+    p.write_text(yaml.safe_dump(SPOT))
+    return p
+
+
+def test_run_writes_everything(tmp_path, scen):
+    out = tmp_path / "out"
+    r = salkit("run", scen, "--out", out)
+    assert r.returncode == 0, r.stderr
+    for f in ["raw.nc", "image.nc", "metrics.json", "scenario.yaml", "image.png", "cuts.png", "report.html"]:
+        assert (out / f).is_file(), f
+    m = json.loads((out / "metrics.json").read_text())
+    assert all(isinstance(v, (int, float)) for v in m.values())
+    for k in KEYS:
+        assert k in m, k
+    assert m["irw_range_m"] == pytest.approx(m["irw_range_theory_m"], rel=0.03)
+    html = (out / "report.html").read_text()
+    assert "image.png" in html and "cuts.png" in html
+    resolved = yaml.safe_load((out / "scenario.yaml").read_text())
+    assert resolved["receiver"]["noise"]["enabled"] is False  # defaults filled in
+    assert not [p for p in out.iterdir() if p.name.startswith(".")]  # no temporaries left
+
+
+def test_simulate_then_focus_with_other_algorithm(tmp_path, scen):
+    raw = tmp_path / "raw.nc"
+    assert salkit("simulate", scen, "--out", raw).returncode == 0
+    r = salkit("focus", raw, "--algorithm", "pfa", "--out", tmp_path / "f")
+    assert r.returncode == 0, r.stderr
+    m = json.loads((tmp_path / "f" / "metrics.json").read_text())
+    assert m["irw_azimuth_m"] == pytest.approx(m["irw_azimuth_theory_m"], rel=0.03)
+    assert salkit("info", raw).returncode == 0
+    assert salkit("info", scen).returncode == 0
+
+
+@pytest.mark.parametrize("args,needle", [
+    (["--set", "waveform.bandwidth=-1"], "waveform.bandwidth"),
+    (["--set", "waveform.prf=2e5"], "duty cycle"),
+    (["--set", "platform.real_aperture=0.0"], "platform.real_aperture"),
+    (["--set", "receiver.adc_rate=1e5", "--set", "scene.points.0.y=1.0"], "receiver.adc_rate"),
+    (["--set", "processing.grid.dy=0.5"], "processing.grid.dy"),
+    (["--set", "scene.points.0.x=.nan"], "scene.points.0.x"),
+])
+def test_bad_scenarios_exit_2_without_traceback(tmp_path, scen, args, needle):
+    out = tmp_path / "o"
+    r = salkit("run", scen, "--out", out, *args)
+    assert r.returncode == 2
+    assert needle in r.stderr
+    assert "Traceback" not in r.stderr + r.stdout
+    assert not out.exists()  # checked before any work or output
+
+
+def test_bad_files_exit_2(tmp_path, scen):
+    raw = tmp_path / "raw.nc"
+    salkit("simulate", scen, "--out", raw)
+    t = tmp_path / "t.nc"
+    t.write_bytes(raw.read_bytes()[:2000])
+    for args in (["focus", t, "--out", tmp_path / "x"], ["focus", tmp_path / "none.nc", "--out", tmp_path / "x"],
+                 ["focus", raw, "--algorithm", "magic", "--out", tmp_path / "x"], ["run", tmp_path / "no.yaml", "--out", tmp_path / "x"]):
+        r = salkit(*args)
+        assert r.returncode == 2, args
+        assert "Traceback" not in r.stderr
+
+
+def test_examples_listed():
+    r = salkit("examples")
+    assert r.returncode == 0
+    for f in EXAMPLES.glob("*.yaml"):
+        assert f.name in r.stdout
