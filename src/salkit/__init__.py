@@ -16,8 +16,8 @@ except PackageNotFoundError:  # pragma: no cover - source tree without install
 
 from .errors import SalkitError, ScenarioError, SamplingError, DataFileError  # noqa: E402
 from .params import Scenario, load_scenario  # noqa: E402
-from .simulate import simulate  # noqa: E402
-from .focus import focus, range_compress  # noqa: E402
+from . import focus, simulate  # noqa: E402  callable subpackages: salkit.simulate(sc), salkit.focus(raw)
+from .focus import range_compress  # noqa: E402
 from .metrics import measure  # noqa: E402
 from .geometry import truth_positions  # noqa: E402
 

@@ -17,8 +17,8 @@ from ..io.datasets import make_image_dataset
 from ..params.models import Grid, Processing
 from ..signals.windows import window, window_ipr
 from .backprojection import backproject
-from .omegak import omegak
-from .pfa import pfa
+from .omegak import omegak as omega_k  # keep salkit.focus.omegak the module
+from .pfa import pfa as polar_format  # keep salkit.focus.pfa the module
 from .rangecomp import range_compress
 
 ALGORITHMS = ("bp", "pfa", "omegak")
@@ -187,14 +187,14 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, algorithm
     if alg == "pfa":
         if ph.mode != "spotlight":
             raise ScenarioError("processing.algorithm", "pfa", "the polar format algorithm needs spotlight data")
-        img, info = pfa(ph.data, ph.freq, ph.positions, ph.reference_range, plane, az, rg, wfun, wfun)
+        img, info = polar_format(ph.data, ph.freq, ph.positions, ph.reference_range, plane, az, rg, wfun, wfun)
         if progress:
             progress(P, P)
     elif alg == "omegak":
         if ph.mode != "stripmap" or ph.real_aperture <= 0:
             raise ScenarioError("processing.algorithm", "omegak", "omega-k needs stripmap data")
         table, dsin = beam_gain_table(ph.wavelength, ph.real_aperture)
-        img, info = omegak(ph.data, ph.freq, ph.positions, ph.reference_range, plane, az, rg, ph.track,
+        img, info = omega_k(ph.data, ph.freq, ph.positions, ph.reference_range, plane, az, rg, ph.track,
                            ph.center_position, table, dsin, two_way_3db_sin(ph.wavelength, ph.real_aperture),
                            wfun, wfun)
         if progress:
@@ -241,3 +241,8 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, algorithm
 
 __all__ = ["ALGORITHMS", "PhaseHistory", "default_grid", "focus", "phase_history", "range_compress",
            "theory_resolution"]
+
+
+from .._callable import make_callable as _make_callable  # noqa: E402
+
+_make_callable(__name__, "focus")

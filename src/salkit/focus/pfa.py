@@ -12,27 +12,43 @@ removed pixel by pixel, so PFA images carry the same phase as backprojection.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import scipy.fft as sfft
+from numba import njit, prange
 
 from ..constants import SPEED_OF_LIGHT
-from .interp import resample_rows
+from .backprojection import _sincos_cycles
+from .interp import azimuth_pass, kernel_table, resample_rows
 
 WORKERS = -1
 
 
-def _place_centered(q: np.ndarray, n: int, axis: int) -> np.ndarray:
-    """Put a centred spectrum (index j - N//2) into length n (wrapped) along ``axis``."""
-    N = q.shape[axis]
-    idx = (np.arange(N) - N // 2) % n
-    shape = list(q.shape)
-    shape[axis] = n
-    out = np.zeros(shape, np.complex64)
-    if axis == 0:
-        out[idx, :] = q
-    else:
-        out[:, idx] = q
-    return out
+@njit(parallel=True, cache=True, fastmath=True)
+def _finalise(img, az, rg, a, r, pc, kx_c, ky_c, k_c, scale):
+    """In place: img *= scale * exp(-j (kx_c az + ky_c rg)) * exp(+j k_c q(x)), where
+    q(x) = |x - p_c| - |p_c| + u_c . x is the wavefront curvature at the aperture centre p_c.
+    Geometry and phase in float64 (reduced to cycles), sin/cos in float32."""
+    nx, ny = img.shape
+    rc = math.sqrt(pc[0] * pc[0] + pc[1] * pc[1] + pc[2] * pc[2])
+    ux, uy, uz = pc[0] / rc, pc[1] / rc, pc[2] / rc
+    inv2pi = 1.0 / (2.0 * math.pi)
+    for i in prange(nx):
+        for j in range(ny):
+            X0 = az[i] * a[0] + rg[j] * r[0]
+            X1 = az[i] * a[1] + rg[j] * r[1]
+            X2 = az[i] * a[2] + rg[j] * r[2]
+            d0, d1, d2 = X0 - pc[0], X1 - pc[1], X2 - pc[2]
+            q = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) - rc + (X0 * ux + X1 * uy + X2 * uz)
+            cyc = (k_c * q - kx_c * az[i] - ky_c * rg[j]) * inv2pi
+            y = np.float32(cyc - np.float64(np.int64(cyc)))
+            y = y - np.float32(np.int32(y + np.float32(0.5) * (np.float32(y >= 0) - np.float32(y < 0))))
+            s, c = _sincos_cycles(y)
+            v = img[i, j]
+            re = v.real * c - v.imag * s
+            im = v.real * s + v.imag * c
+            img[i, j] = complex(re * scale, im * scale)
 
 
 def pfa(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.ndarray,
@@ -67,8 +83,11 @@ def pfa(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.n
     dx, dy = az[1] - az[0], rg[1] - rg[0]
     az_c, rg_c = az[nx // 2], rg[ny // 2]
     rng_c = np.linalg.norm(positions, axis=1)
-    corr = np.exp(-1j * 4 * np.pi * np.outer(ref_range - rng_c, freq) / c)
-    data = (ph * corr).astype(np.complex64)
+    if np.max(np.abs(ref_range - rng_c)) > 1e-9:  # re-reference to the scene centre
+        corr = np.exp(-1j * 4 * np.pi * np.outer(ref_range - rng_c, freq) / c)
+        data = (ph * corr).astype(np.complex64)
+    else:
+        data = np.ascontiguousarray(ph, dtype=np.complex64)
     u = positions / rng_c[:, None]
     ua = u @ plane.azimuth
     ur = u @ plane.range
@@ -85,32 +104,29 @@ def pfa(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.n
     d1 = resample_rows(data, fpos, half=half)  # (P, nky)
     # azimuth interpolation onto a uniform kx grid
     t = ua / ur  # kx = ky * t
-    order = np.argsort(t)
-    ts, idx_sorted = t[order], np.arange(P, dtype=np.float64)[order]
-    kx_ends = np.stack([ky * ts[0], ky * ts[-1]], axis=1)
+    if t[-1] < t[0]:  # make pulses run with increasing t
+        t, d1 = t[::-1], d1[::-1]
+    if np.any(np.diff(t) <= 0):
+        raise ValueError("PFA needs the look angle to change monotonically over the aperture")
+    kx_ends = np.stack([ky * t[0], ky * t[-1]], axis=1)
     kx_lo, kx_hi = np.max(kx_ends.min(axis=1)), np.min(kx_ends.max(axis=1))
     dkx = 2 * np.pi / (nx * dx)
     nkx = min(int(np.floor((kx_hi - kx_lo) / dkx)), nx)
     kx_c = 0.5 * (kx_lo + kx_hi)
     kx = kx_c + (np.arange(nkx) - nkx // 2) * dkx
-    tneed = kx[None, :] / ky[:, None]  # (nky, nkx)
-    ppos = np.interp(tneed, ts, idx_sorted)
-    d2 = resample_rows(np.ascontiguousarray(d1.T), ppos, half=half)  # (nky, nkx)
-    w_a = np.asarray(win_az(nkx), np.float32)
-    w_r = np.asarray(win_rg(nky), np.float32)
-    q = (d2 * w_r[:, None] * w_a[None, :]).T  # (nkx, nky)
-    # centre-offset ramps, then separable DFTs onto the requested grid
-    q = q * np.exp(-1j * (np.arange(nkx) - nkx // 2) * dkx * az_c)[:, None]
-    q = q * np.exp(-1j * (np.arange(nky) - nky // 2) * dky * rg_c)[None, :]
-    buf = _place_centered(_place_centered(q.astype(np.complex64), nx, 0), ny, 1)
-    img = sfft.fftshift(sfft.fft2(buf, workers=WORKERS), axes=(0, 1))
-    img *= np.exp(-1j * kx_c * az)[:, None].astype(np.complex64)
-    img *= np.exp(-1j * ky_c * rg)[None, :].astype(np.complex64)
-    img /= np.float32(w_a.sum() * w_r.sum())
-    # wavefront-curvature phase at the aperture centre, pixel by pixel (float64 geometry)
+    w_a = np.asarray(win_az(nkx), np.float64)
+    w_r = np.asarray(win_rg(nky), np.float64)
+    # windows and the grid-centre ramps as two 1-D vectors; azimuth pass writes the FFT buffer
+    v_a = (w_a * np.exp(-1j * (np.arange(nkx) - nkx // 2) * dkx * az_c)).astype(np.complex64)
+    v_r = (w_r * np.exp(-1j * (np.arange(nky) - nky // 2) * dky * rg_c)).astype(np.complex64)
+    buf = np.zeros((nx, ny), np.complex64)
+    ia = ((np.arange(nkx) - nkx // 2) % nx).astype(np.int64)
+    ir = ((np.arange(nky) - nky // 2) % ny).astype(np.int64)
+    azimuth_pass(np.ascontiguousarray(d1.T), np.ascontiguousarray(t), kx, ky, v_a, v_r, half,
+                 kernel_table(half), buf, ia, ir)
+    img = sfft.fftshift(sfft.fft2(buf, workers=WORKERS, overwrite_x=True), axes=(0, 1))
     pc = positions[P // 2]
-    X = plane.points(az[:, None], rg[None, :])
-    q_curv = np.linalg.norm(X - pc, axis=-1) - np.linalg.norm(pc) + X @ (pc / np.linalg.norm(pc))
-    fc = freq[M // 2]
-    img *= np.exp(1j * 4 * np.pi * fc / c * q_curv).astype(np.complex64)
+    _finalise(img, np.ascontiguousarray(az, np.float64), np.ascontiguousarray(rg, np.float64),
+              plane.azimuth, plane.range, pc, kx_c, ky_c, 4 * np.pi * freq[M // 2] / c,
+              np.float32(1.0 / (w_a.sum() * w_r.sum())))
     return img.astype(np.complex64), {"support_azimuth": nkx, "support_range": nky}

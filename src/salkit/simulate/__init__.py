@@ -164,3 +164,8 @@ def simulate(scenario: Scenario, progress: ProgressFn = None, noise: bool | None
         sig = sig.real.astype(np.complex64)
     units = "shot_noise" if scenario.receiver.noise.enabled else "reflectivity"
     return make_raw_dataset(sig, col, t, scenario, signal_units=units, noise=use_noise)
+
+
+from .._callable import make_callable as _make_callable  # noqa: E402
+
+_make_callable(__name__, "simulate")

@@ -1,0 +1,124 @@
+"""salkit benchmarks: throughput figures and ratios against the public alternative, same machine,
+same run. Run with ``make bench`` (or ``.venv/bin/python benchmarks/run_all.py``).
+
+- backprojection: salkit (numba) vs a straightforward NumPy backprojection (loop over pulses,
+  vectorised over pixels), on the same phase history and grid; images compared.
+- PFA: time as a multiple of one complex FFT of the output size (scipy.fft, same workers).
+- simulation: scatterer-samples per second of the dechirped-echo simulator.
+"""
+from __future__ import annotations
+
+import json
+import os
+import platform
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import scipy.fft as sfft
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from common import C, best_of, spotlight_problem  # noqa: E402
+
+
+def numpy_backprojection(ph, plane, az, rg, upsample=8):
+    """The common Python SAR way: loop over pulses, vectorise over pixels, np.interp the profile."""
+    P, M = ph.data.shape
+    df = ph.freq[1] - ph.freq[0]
+    nfft = M * upsample
+    prof = np.fft.fftshift(np.fft.ifft(ph.data, n=nfft, axis=1) * nfft, axes=1)
+    # the ifft above puts sample m at index m; shift so the centre frequency is the reference
+    prof *= np.exp(-2j * np.pi * (M // 2) * np.arange(nfft) / nfft)[None, :] * (-1) ** (M // 2)
+    dr = C / (2 * df * nfft)
+    r_axis = (np.arange(nfft) - nfft // 2) * dr
+    X = plane.points(az[:, None], rg[None, :]).reshape(-1, 3)
+    k = 4 * np.pi * ph.freq[M // 2] / C
+    img = np.zeros(X.shape[0], np.complex128)
+    for p in range(P):
+        dR = np.sqrt(((X - ph.positions[p]) ** 2).sum(axis=1)) - ph.reference_range[p]
+        v = np.interp(dR, r_axis, prof[p].real) + 1j * np.interp(dR, r_axis, prof[p].imag)
+        img += v * np.exp(1j * k * dR)
+    return img.reshape(az.size, rg.size) / (P * M)
+
+
+def bench_backprojection(n_pix=512, n_pulses=512):
+    from salkit.focus.backprojection import backproject
+    from salkit.geometry.collection import grid_axes, plane_from
+    sc, ph = spotlight_problem(n_pix, n_pulses)
+    g = sc.processing.grid
+    plane = plane_from(ph.track, ph.center_position, "slant")
+    az, rg = grid_axes(g)
+    W = np.ones((az.size, ph.data.shape[0]), np.float32)
+    ro = plane.points(az, np.zeros_like(az))
+    wr = np.ones(ph.data.shape[1])
+    run = lambda: backproject(ph.data, ph.freq, ph.positions, ph.reference_range, ro, plane.range, rg, W, wr)  # noqa: E731
+    run()  # compile
+    t_s, img_s = best_of(run, 3)
+    t_n, img_n = best_of(lambda: numpy_backprojection(ph, plane, az, rg), 1)
+    img_s = img_s / (ph.data.shape[0] * ph.data.shape[1])
+    corr = abs(np.vdot(img_s, img_n)) / (np.linalg.norm(img_s) * np.linalg.norm(img_n))
+    pp = az.size * rg.size * ph.data.shape[0]
+    return {"bp_pixels": az.size * rg.size, "bp_pulses": ph.data.shape[0], "bp_salkit_s": t_s, "bp_numpy_s": t_n,
+            "bp_salkit_pixel_pulses_per_s": pp / t_s, "bp_numpy_pixel_pulses_per_s": pp / t_n,
+            "bp_speedup_vs_numpy": t_n / t_s, "bp_image_correlation": float(corr)}
+
+
+def bench_pfa(n_pix=1024, n_pulses=1024):
+    from salkit.focus import focus
+    from salkit.simulate import simulate
+    sc, _ = spotlight_problem(n_pix, n_pulses)
+    raw = simulate(sc)
+    from salkit.focus import phase_history
+    ph = phase_history(raw)
+    from salkit.focus.pfa import pfa
+    from salkit.geometry.collection import grid_axes, plane_from
+    from salkit.signals.windows import window
+    plane = plane_from(ph.track, ph.center_position, "slant")
+    az, rg = grid_axes(sc.processing.grid)
+    w = lambda n: window("none", n)  # noqa: E731
+    run = lambda: pfa(ph.data, ph.freq, ph.positions, ph.reference_range, plane, az, rg, w, w)  # noqa: E731
+    run()
+    t_pfa, _ = best_of(run, 3)
+    x = (np.random.default_rng(0).standard_normal((n_pix, n_pix)) + 0j).astype(np.complex64)
+    sfft.fft2(x, workers=-1)
+    t_fft, _ = best_of(lambda: sfft.fft2(x, workers=-1), 5)
+    del focus
+    return {"pfa_output": f"{n_pix}x{n_pix}", "pfa_input": f"{ph.data.shape[0]}x{ph.data.shape[1]}",
+            "pfa_s": t_pfa, "fft2_output_s": t_fft, "pfa_over_fft": t_pfa / t_fft}
+
+
+def bench_simulation(n_scat=2000, n_pulses=256):
+    from salkit.geometry import build_collection
+    from salkit.simulate import echo_signal, fast_time_axis
+    sc, _ = spotlight_problem(256, n_pulses)
+    col = build_collection(sc)
+    rng = np.random.default_rng(1)
+    pos = np.c_[rng.uniform(-1, 1, (n_scat, 2)), np.zeros(n_scat)]
+    amp = (rng.standard_normal(n_scat) + 1j * rng.standard_normal(n_scat)).astype(np.complex128)
+    t = fast_time_axis(1024, sc.receiver.adc_rate)
+    run = lambda: echo_signal(col, pos, amp, sc, t)  # noqa: E731
+    echo_signal(col, pos[:10], amp[:10], sc, t)
+    ts, _ = best_of(run, 3)
+    n = n_scat * n_pulses * t.size
+    return {"sim_scatterer_samples": n, "sim_s": ts, "sim_scatterer_samples_per_s": n / ts}
+
+
+def main():
+    info = {"machine": platform.processor() or platform.machine(), "cpus": os.cpu_count(),
+            "python": platform.python_version(), "numpy": np.__version__}
+    res = {}
+    for name, fn in (("backprojection", bench_backprojection), ("pfa", bench_pfa), ("simulation", bench_simulation)):
+        t0 = time.perf_counter()
+        r = fn()
+        res.update(r)
+        print(f"== {name} ({time.perf_counter() - t0:.1f} s)")
+        for k, v in r.items():
+            print(f"   {k:<34} {v:.4g}" if isinstance(v, float) else f"   {k:<34} {v}")
+    out = Path(__file__).resolve().parent / "last_run.json"
+    out.write_text(json.dumps({"info": info, "results": res}, indent=2) + "\n")
+    print(f"wrote {out}")
+
+
+if __name__ == "__main__":
+    main()

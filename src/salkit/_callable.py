@@ -1,0 +1,15 @@
+"""Let a stage's subpackage be called like its main function (``salkit.focus(raw)``) while its
+submodules stay importable (``import salkit.focus.pfa``)."""
+import sys
+import types
+
+
+def make_callable(module_name: str, func_name: str) -> None:
+    """Turn ``sys.modules[module_name]`` into a module whose call runs its ``func_name``."""
+    mod = sys.modules[module_name]
+
+    class _CallableModule(types.ModuleType):
+        def __call__(self, *args, **kwargs):
+            return getattr(self, func_name)(*args, **kwargs)
+
+    mod.__class__ = _CallableModule
