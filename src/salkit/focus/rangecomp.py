@@ -36,14 +36,17 @@ def deskew(signal: np.ndarray, adc_rate: float, chirp_rate: float) -> np.ndarray
     return out[:, idx].astype(np.complex64)
 
 
-def analytic(signal: np.ndarray) -> np.ndarray:
-    """Complex signal from real dechirped samples: keep the half-spectrum holding the echoes."""
+def analytic(signal: np.ndarray, sideband: str = "negative") -> np.ndarray:
+    """Complex signal from real dechirped samples, keeping the half-spectrum of the echoes.
+
+    The beat frequency is -k * dtau: a scene beyond the reference range (dtau > 0) beats at
+    negative frequencies (``sideband="negative"``), one nearer than the reference at positive.
+    A real signal's spectrum is symmetric, so this choice comes from the geometry, not the data.
+    """
     spec = sfft.fft(signal.real, axis=1, workers=WORKERS)
     N = signal.shape[1]
     f = sfft.fftfreq(N)
-    pos = np.sum(np.abs(spec[:, f > 0]) ** 2)
-    neg = np.sum(np.abs(spec[:, f < 0]) ** 2)
-    keep = (f > 0) if pos >= neg else (f < 0)
+    keep = (f < 0) if sideband == "negative" else (f > 0)
     spec = spec * (2.0 * keep)
     return sfft.ifft(spec, axis=1, workers=WORKERS).astype(np.complex64)
 
@@ -72,7 +75,7 @@ def range_compress(raw: xr.Dataset) -> xr.Dataset:
     k = float(raw.attrs["chirp_rate"])
     f0 = SPEED_OF_LIGHT / float(raw.attrs["wavelength"])
     if not int(raw.attrs.get("iq", 1)):
-        sig = analytic(sig)
+        sig = analytic(sig, str(raw.attrs.get("real_sideband", "negative")))
     ph = deskew(sig, fs, k)
     t = raw["fast_time"].values
     freq = f0 + k * t

@@ -154,7 +154,19 @@ def simulate(scenario: Scenario, progress: ProgressFn = None, noise: bool | None
     look = -col.center_position / np.linalg.norm(col.center_position)
     cos_graze = math.sqrt(max(1.0 - look[2] ** 2, 1e-12))
     cell = res["azimuth"] * res["slant_range"] / cos_graze  # ground area of a resolution cell
-    spos, samp = build_scatterers(scenario, cell, rng)
+    k = 4 * math.pi / scenario.waveform.wavelength
+    pc = col.center_position
+    if scenario.platform.mode == "spotlight":  # the image phase model of salkit.focus
+        def smooth_phase(x):
+            return k * (np.linalg.norm(x - pc, axis=1) - np.linalg.norm(pc))
+    else:
+        a = col.track
+        rs = np.linalg.norm(-pc - np.dot(-pc, a) * a)
+
+        def smooth_phase(x):
+            rel = x - pc
+            return k * (np.linalg.norm(rel - np.outer(rel @ a, a), axis=1) - rs)
+    spos, samp = build_scatterers(scenario, cell, rng, smooth_phase)
     scale = signal_scale(scenario, col, n)
     sig = echo_signal(col, spos, samp * scale, scenario, t, progress=progress)
     use_noise = scenario.receiver.noise.enabled if noise is None else noise
@@ -163,7 +175,12 @@ def simulate(scenario: Scenario, progress: ProgressFn = None, noise: bool | None
     if not scenario.receiver.iq:
         sig = sig.real.astype(np.complex64)
     units = "shot_noise" if scenario.receiver.noise.enabled else "reflectivity"
-    return make_raw_dataset(sig, col, t, scenario, signal_units=units, noise=use_noise)
+    ds = make_raw_dataset(sig, col, t, scenario, signal_units=units, noise=use_noise)
+    if not scenario.receiver.iq:
+        from ..geometry.sampling import delay_spread
+        d0, d1 = delay_spread(scenario, col)
+        ds.attrs["real_sideband"] = "negative" if d0 >= 0 else "positive"
+    return ds
 
 
 from .._callable import make_callable as _make_callable  # noqa: E402

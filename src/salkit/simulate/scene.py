@@ -56,12 +56,17 @@ def _load_image(path: str) -> np.ndarray:
     return img / mx if mx > 0 else img
 
 
-def extended_scatterers(ext: ExtendedScene, cell_area: float, rng: np.random.Generator):
+def extended_scatterers(ext: ExtendedScene, cell_area: float, rng: np.random.Generator,
+                        smooth_phase=None):
     """Scatterers of an extended scene.
 
     The per-scatterer amplitude is scaled so that a resolution cell (ground area ``cell_area``, m^2)
     of reflectivity T has mean image power T^2 (speckle) or image amplitude T (no speckle), the
     same as a point target of amplitude T.
+
+    Without speckle, ``smooth_phase(pos) -> rad`` gives each scatterer the phase that makes it add
+    in phase in the focused image (the usual speckle-free idealisation; a surface of truly constant
+    reflectivity phase would be a specular mirror and return almost nothing).
     """
     nx = max(int(round(ext.extent[0] / ext.spacing)), 1)
     ny = max(int(round(ext.extent[1] / ext.spacing)), 1)
@@ -88,16 +93,18 @@ def extended_scatterers(ext: ExtendedScene, cell_area: float, rng: np.random.Gen
         amp = sigma * (rng.standard_normal(t.size) + 1j * rng.standard_normal(t.size)) / math.sqrt(2.0)
     else:
         amp = (t * d2 / cell_area).astype(np.complex128)
+        if smooth_phase is not None:
+            amp = amp * np.exp(1j * smooth_phase(pos))
     return pos, amp
 
 
-def build_scatterers(scenario: Scenario, cell_area: float, rng: np.random.Generator):
+def build_scatterers(scenario: Scenario, cell_area: float, rng: np.random.Generator, smooth_phase=None):
     """All scatterers of a scenario: positions (N, 3) m and complex reflectivities (N,)."""
     pts = scenario.scene.points
     pos = [np.array([[t.x, t.y, t.z] for t in pts], dtype=np.float64).reshape(-1, 3)]
     amp = [np.array([t.amplitude * np.exp(1j * t.phase) for t in pts], dtype=np.complex128)]
     if scenario.scene.extended is not None:
-        p, a = extended_scatterers(scenario.scene.extended, cell_area, rng)
+        p, a = extended_scatterers(scenario.scene.extended, cell_area, rng, smooth_phase)
         pos.append(p)
         amp.append(a)
     return np.concatenate(pos), np.concatenate(amp)
