@@ -33,12 +33,13 @@ def numpy_backprojection(ph, plane, az, rg, upsample=8):
     dr = C / (2 * df * nfft)
     r_axis = (np.arange(nfft) - nfft // 2) * dr
     X = plane.points(az[:, None], rg[None, :]).reshape(-1, 3)
+    x, y, z = (np.ascontiguousarray(X[:, i]) for i in range(3))
     k = 4 * np.pi * ph.freq[M // 2] / C
     img = np.zeros(X.shape[0], np.complex128)
     for p in range(P):
-        dR = np.sqrt(((X - ph.positions[p]) ** 2).sum(axis=1)) - ph.reference_range[p]
-        v = np.interp(dR, r_axis, prof[p].real) + 1j * np.interp(dR, r_axis, prof[p].imag)
-        img += v * np.exp(1j * k * dR)
+        px, py, pz = ph.positions[p]
+        dR = np.sqrt((x - px) ** 2 + (y - py) ** 2 + (z - pz) ** 2) - ph.reference_range[p]
+        img += np.interp(dR, r_axis, prof[p]) * np.exp(1j * k * dR)
     return img.reshape(az.size, rg.size) / (P * M)
 
 

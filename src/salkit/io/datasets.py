@@ -19,6 +19,20 @@ import xarray as xr
 from ..errors import DataFileError
 
 FORMAT_VERSION = "1.0"
+
+
+def _umask() -> int:
+    m = os.umask(0)
+    os.umask(m)
+    return m
+
+
+def finish_atomic(tmp: str, path: Path) -> None:
+    """Give a temporary file ordinary permissions (0666 less the umask), flush it, rename it."""
+    os.chmod(tmp, 0o666 & ~_umask())
+    with open(tmp, "rb") as fh:
+        os.fsync(fh.fileno())
+    os.replace(tmp, path)
 RAW_KINDS = ("raw", "phase_history")
 
 
@@ -147,9 +161,7 @@ def write_dataset(ds: xr.Dataset, path: str | Path) -> Path:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             ds.to_netcdf(tmp, engine="h5netcdf", invalid_netcdf=True)
-        with open(tmp, "rb") as fh:
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
+        finish_atomic(tmp, path)
     except BaseException:
         if os.path.exists(tmp):
             os.unlink(tmp)
@@ -165,9 +177,7 @@ def write_text_atomic(path: str | Path, text: str) -> Path:
     try:
         with os.fdopen(fd, "w") as fh:
             fh.write(text)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
+        finish_atomic(tmp, path)
     except BaseException:
         if os.path.exists(tmp):
             os.unlink(tmp)

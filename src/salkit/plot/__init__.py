@@ -21,7 +21,8 @@ def _save(fig, path: str | Path) -> Path:
     os.close(fd)
     try:
         fig.savefig(tmp, dpi=110, bbox_inches="tight")
-        os.replace(tmp, path)
+        from ..io.datasets import finish_atomic
+        finish_atomic(tmp, path)
     finally:
         plt.close(fig)
         if os.path.exists(tmp):
