@@ -19,6 +19,12 @@ CASES = {
     "spot-offcentre-bp": (merge(SPOT, scene={"points": [{"x": 0.31, "y": -0.27, "z": 0.1, "phase": 2.0}]}), "bp"),
     "spot-offcentre-pfa": (merge(SPOT, scene={"points": [{"x": 0.31, "y": -0.27, "z": 0.1, "phase": 2.0}]}), "pfa"),
     "strip-omegak": (STRIP, "omegak"),
+    "spot-ground-bp": (merge(SPOT, processing__grid={"nx": 128, "ny": 128, "dx": 0.015, "dy": 0.02, "plane": "ground"},
+                             scene={"points": [{"x": 0.1, "y": 0.15, "phase": 0.4}]}), "bp"),
+    "spot-ground-pfa": (merge(SPOT, processing__grid={"nx": 128, "ny": 128, "dx": 0.015, "dy": 0.02, "plane": "ground"},
+                              scene={"points": [{"x": 0.1, "y": 0.15, "phase": 0.4}]}), "pfa"),
+    "strip-ground-omegak": (merge(STRIP, processing__grid={"nx": 128, "ny": 64, "dx": 0.01, "dy": 0.02,
+                                                           "plane": "ground"}), "omegak"),
     "geo200km-bp": (GEO, "bp"),
     "geo200km-pfa": (GEO, "pfa"),
     "geo560km-bp": (merge(GEO, platform__standoff=560000.0, platform__aperture_length=8.68,
@@ -42,6 +48,13 @@ def test_point_target_to_theory(case):
     img = focus(raw, sc.processing)
     m = measure(img, reflectivity_phase=sc.scene.points[0].phase)
     assert m["pslr_range_theory_db"] == pytest.approx(-13.26, abs=0.01)
+    if sc.processing.grid.plane == "ground":  # ground-range resolution c/2B / cos(grazing)
+        graze = np.arctan2(sc.platform.altitude, sc.platform.standoff)
+        assert m["resolution_range_theory_m"] == pytest.approx(
+            m["irw_range_theory_m"] / 0.8859, rel=1e-3)
+        from salkit.geometry import resolution_theory
+        slant = resolution_theory(sc)["slant_range"]  # c / (2 B_eff), B_eff = k * gate
+        assert m["resolution_range_theory_m"] == pytest.approx(slant / np.cos(graze), rel=0.01)
     check(m)
     # calibrated amplitude: reflectivity times the two-way beam gain at the aperture centre
     from scipy.special import j1
@@ -104,3 +117,13 @@ def test_every_target_of_the_example_at_its_position():
             assert abs(m["peak_range_m"] - tr) < 0.1 * img.attrs["resolution_range"]
             ph = m["peak_phase_flat_rad"] + float(fn(ta, tr))
             assert abs(np.angle(np.exp(1j * (ph - pt.phase)))) < 0.05
+
+
+@pytest.mark.parametrize("alg", ["bp", "pfa"])
+@pytest.mark.parametrize("grid", [{"nx": 127, "ny": 128, "dx": 0.015, "dy": 0.015},
+                                  {"nx": 128, "ny": 129, "dx": 0.015, "dy": 0.015, "center": [0.1, -0.05]}])
+def test_odd_sizes_and_offset_grid_centres(alg, grid):
+    sc = parse_scenario(merge(SPOT, processing={"algorithm": alg, "grid": grid},
+                              scene={"points": [{"x": 0.07, "y": -0.03, "phase": 1.0}]}))
+    m = measure(focus(simulate(sc), sc.processing), reflectivity_phase=1.0)
+    check(m)

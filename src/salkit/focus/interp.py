@@ -25,6 +25,39 @@ def kernel_table(half: int = 4, beta: float = 6.0) -> np.ndarray:
     return _TABLES[key]
 
 
+@njit(cache=True, fastmath=True, inline="always")
+def _interp_one(row, x, half, table):
+    N = row.shape[0]
+    os = 2048
+    T = 2 * half
+    if not (x >= -0.5 and x <= N - 0.5):
+        return complex(0.0, 0.0)
+    i0 = int(math.floor(x))
+    f = x - i0
+    base = i0 - half + 1
+    acc_re = np.float32(0.0)
+    acc_im = np.float32(0.0)
+    if base >= 0 and base + T <= N:
+        for t in range(T):
+            h = table[int((f + (half - 1 - t)) * os + half * os + 0.5)]
+            v = row[base + t]
+            acc_re += h * v.real
+            acc_im += h * v.imag
+    else:
+        for t in range(T):
+            i = base + t
+            if i < 0 or i >= N:
+                continue
+            it = int((f + (half - 1 - t)) * os + half * os + 0.5)
+            if it < 0 or it >= table.shape[0]:
+                continue
+            h = table[it]
+            v = row[i]
+            acc_re += h * v.real
+            acc_im += h * v.imag
+    return complex(acc_re, acc_im)
+
+
 @njit(parallel=True, cache=True, fastmath=True, boundscheck=False)
 def interp_rows(data, pos, half, table, out):
     """out[r, j] = sum_i data[r, i] * h(pos[r, j] - i), h the tabulated windowed sinc.
@@ -32,42 +65,19 @@ def interp_rows(data, pos, half, table, out):
     ``pos`` holds fractional input indices; positions outside [-0.5, N - 0.5] give 0. Interior
     outputs take a branch-free path over 2*half contiguous taps.
     """
-    R = data.shape[0]
-    N = data.shape[1]
-    J = pos.shape[1]
-    os = 2048
-    T = 2 * half
-    for r in prange(R):
+    for r in prange(data.shape[0]):
         row = data[r]
-        for j in range(J):
-            x = pos[r, j]
-            if not (x >= -0.5 and x <= N - 0.5):
-                out[r, j] = 0.0
-                continue
-            i0 = int(math.floor(x))
-            f = x - i0
-            base = i0 - half + 1
-            acc_re = np.float32(0.0)
-            acc_im = np.float32(0.0)
-            if base >= 0 and base + T <= N:
-                for t in range(T):
-                    h = table[int((f + (half - 1 - t)) * os + half * os + 0.5)]
-                    v = row[base + t]
-                    acc_re += h * v.real
-                    acc_im += h * v.imag
-            else:
-                for t in range(T):
-                    i = base + t
-                    if i < 0 or i >= N:
-                        continue
-                    it = int((f + (half - 1 - t)) * os + half * os + 0.5)
-                    if it < 0 or it >= table.shape[0]:
-                        continue
-                    h = table[it]
-                    v = row[i]
-                    acc_re += h * v.real
-                    acc_im += h * v.imag
-            out[r, j] = complex(acc_re, acc_im)
+        for j in range(pos.shape[1]):
+            out[r, j] = _interp_one(row, pos[r, j], half, table)
+
+
+@njit(parallel=True, cache=True, fastmath=True, boundscheck=False)
+def interp_rows_linear(data, x0, step, half, table, out):
+    """Like :func:`interp_rows` with positions x0[r] + j * step[r] (no position array)."""
+    for r in prange(data.shape[0]):
+        row = data[r]
+        for j in range(out.shape[1]):
+            out[r, j] = _interp_one(row, x0[r] + j * step[r], half, table)
 
 
 def resample_rows(data: np.ndarray, pos: np.ndarray, half: int = 4, beta: float = 6.0) -> np.ndarray:

@@ -20,7 +20,7 @@ from numba import njit, prange
 
 from ..constants import SPEED_OF_LIGHT
 from .backprojection import _sincos_cycles
-from .interp import azimuth_pass, kernel_table, resample_rows
+from .interp import azimuth_pass, interp_rows_linear, kernel_table
 
 WORKERS = -1
 
@@ -100,8 +100,11 @@ def pfa(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.n
     nky = min(int(np.floor((ky_hi - ky_lo) / dky)), ny)  # every sample inside the data
     ky_c = 0.5 * (ky_lo + ky_hi)
     ky = ky_c + (np.arange(nky) - nky // 2) * dky
-    fpos = (ky[None, :] * c / (4 * np.pi * ur[:, None]) - f0) / df
-    d1 = resample_rows(data, fpos, half=half)  # (P, nky)
+    # input index of ky[j] on pulse n is linear in j: x0[n] + j * step[n]
+    x0 = (ky[0] * c / (4 * np.pi * ur) - f0) / df
+    step = dky * c / (4 * np.pi * ur) / df
+    d1 = np.empty((P, nky), np.complex64)
+    interp_rows_linear(data, x0, step, half, kernel_table(half), d1)
     # azimuth interpolation onto a uniform kx grid
     t = ua / ur  # kx = ky * t
     if t[-1] < t[0]:  # make pulses run with increasing t
@@ -122,9 +125,16 @@ def pfa(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.n
     buf = np.zeros((nx, ny), np.complex64)
     ia = ((np.arange(nkx) - nkx // 2) % nx).astype(np.int64)
     ir = ((np.arange(nky) - nky // 2) % ny).astype(np.int64)
+    # fftshift of the output = (-1)^index on the input for even sizes: fold it into the vectors
+    if nx % 2 == 0:
+        v_a = v_a * np.where(ia % 2 == 0, 1, -1).astype(np.complex64)
+    if ny % 2 == 0:
+        v_r = v_r * np.where(ir % 2 == 0, 1, -1).astype(np.complex64)
     azimuth_pass(np.ascontiguousarray(d1.T), np.ascontiguousarray(t), kx, ky, v_a, v_r, half,
                  kernel_table(half), buf, ia, ir)
-    img = sfft.fftshift(sfft.fft2(buf, workers=WORKERS, overwrite_x=True), axes=(0, 1))
+    img = sfft.fft2(buf, workers=WORKERS, overwrite_x=True)
+    if nx % 2 or ny % 2:
+        img = sfft.fftshift(img, axes=tuple(ax for ax, n in ((0, nx), (1, ny)) if n % 2))
     pc = positions[P // 2]
     _finalise(img, np.ascontiguousarray(az, np.float64), np.ascontiguousarray(rg, np.float64),
               plane.azimuth, plane.range, pc, kx_c, ky_c, 4 * np.pi * freq[M // 2] / c,
