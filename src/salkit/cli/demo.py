@@ -18,6 +18,7 @@ DEMO_SETS: dict[str, list[str]] = {}
 
 
 def main(argv=None) -> int:
+    """Run every shipped example into ``--out`` (default results/) and write an index page."""
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--out", default="results")
     ap.add_argument("--only", nargs="*", default=None)

@@ -190,6 +190,7 @@ def examples(copy_to: Optional[Path] = typer.Option(None, "--copy", help="copy t
 
 
 def main():  # pragma: no cover
+    """Entry point of the ``salkit`` command."""
     app()
 
 

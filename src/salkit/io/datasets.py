@@ -10,6 +10,7 @@ import json
 import os
 import tempfile
 import warnings
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -151,38 +152,37 @@ def make_image_dataset(image: np.ndarray, az: np.ndarray, rg: np.ndarray, plane,
     )
 
 
-def write_dataset(ds: xr.Dataset, path: str | Path) -> Path:
-    """Write ``ds`` to NetCDF4/HDF5 atomically (temporary file in the same folder, then rename)."""
+@contextmanager
+def atomic_path(path: str | Path, suffix: str = ".tmp"):
+    """Yield a temporary path beside ``path``; on success give it ordinary permissions, flush it
+    and rename it onto ``path``; on any failure remove it, so nothing is left half-written."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=suffix, dir=path.parent)
     os.close(fd)
     try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            ds.to_netcdf(tmp, engine="h5netcdf", invalid_netcdf=True)
+        yield tmp
         finish_atomic(tmp, path)
     except BaseException:
         if os.path.exists(tmp):
             os.unlink(tmp)
         raise
-    return path
+
+
+def write_dataset(ds: xr.Dataset, path: str | Path) -> Path:
+    """Write ``ds`` to NetCDF4/HDF5 atomically (temporary file in the same folder, then rename)."""
+    with atomic_path(path) as tmp, warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ds.to_netcdf(tmp, engine="h5netcdf", invalid_netcdf=True)
+    return Path(path)
 
 
 def write_text_atomic(path: str | Path, text: str) -> Path:
     """Write a text file atomically."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w") as fh:
+    with atomic_path(path) as tmp:
+        with open(tmp, "w") as fh:
             fh.write(text)
-        finish_atomic(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-    return path
+    return Path(path)
 
 
 def write_json_atomic(path: str | Path, obj: Any) -> Path:

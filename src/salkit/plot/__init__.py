@@ -1,8 +1,6 @@
 """Figures a person can look at. Only the interface layers (cli, report, systems) call these."""
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 import matplotlib
@@ -15,19 +13,13 @@ from ..signals.windows import window  # noqa: E402
 
 
 def _save(fig, path: str | Path) -> Path:
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=".png", dir=path.parent)
-    os.close(fd)
+    from ..io.datasets import atomic_path
     try:
-        fig.savefig(tmp, dpi=110, bbox_inches="tight")
-        from ..io.datasets import finish_atomic
-        finish_atomic(tmp, path)
+        with atomic_path(path, suffix=".png") as tmp:
+            fig.savefig(tmp, dpi=110, bbox_inches="tight")
     finally:
         plt.close(fig)
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-    return path
+    return Path(path)
 
 
 def image_db(image_ds, path, title: str = "", dynamic_range: float = 40.0, truth=None) -> Path:
