@@ -20,6 +20,7 @@ from .backprojection import backproject
 from .omegak import omegak as omega_k  # keep salkit.focus.omegak the module
 from .pfa import pfa as polar_format  # keep salkit.focus.pfa the module
 from .rangecomp import range_compress
+from .stripmap_bp import stripmap_backprojection
 
 ALGORITHMS = ("bp", "pfa", "omegak")
 
@@ -93,35 +94,6 @@ def default_grid(ph: PhaseHistory, n: int = 256, plane: str = "slant") -> Grid:
     pl = plane_from(ph.track, ph.center_position, plane)
     res = theory_resolution(ph, pl)
     return Grid(nx=n, ny=n, dx=0.8 * res["azimuth"], dy=0.8 * res["range"], plane=plane)
-
-
-def _stripmap_weights(ph: PhaseHistory, plane, az, win_az) -> tuple[np.ndarray, np.ndarray]:
-    """(nx, P) weights: pulses inside the processed 3 dB aperture of each azimuth row,
-    windowed and equalised by the two-way beam pattern; and the (nx,) coherent gain of a
-    target on each row (the window sum)."""
-    lam = ph.wavelength
-    s3 = two_way_3db_sin(lam, ph.real_aperture)
-    table, dsin = beam_gain_table(lam, ph.real_aperture)
-    u = ph.positions @ ph.track
-    W = np.zeros((az.size, u.size), np.float32)
-    norm = np.zeros(az.size)
-    Rs = np.linalg.norm(ph.center_position - (ph.center_position @ ph.track) * ph.track)
-    half = Rs * math.tan(math.asin(s3))
-    u_c = ph.center_position @ ph.track
-    for i, x in enumerate(az):
-        off = u - (x + u_c)
-        inside = np.abs(off) <= half
-        n = int(inside.sum())
-        if n == 0:
-            continue
-        sin_off = np.abs(off[inside]) / np.hypot(off[inside], Rs)
-        gi = sin_off / dsin
-        i0 = np.clip(gi.astype(int), 0, len(table) - 2)
-        g = table[i0] * (1 - (gi - i0)) + table[i0 + 1] * (gi - i0)
-        wa = win_az(n)
-        W[i, inside] = wa / np.maximum(g, 1e-3)
-        norm[i] = wa.sum()
-    return W, norm
 
 
 def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, algorithm: str | None = None,
@@ -199,12 +171,12 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, algorithm
                            wfun, wfun)
         if progress:
             progress(P, P)
+    elif ph.mode == "stripmap" and ph.real_aperture > 0:
+        img = stripmap_backprojection(ph, plane, az, rg, wfun, upsample=ups, progress=progress)
+        info = {"support_azimuth": P, "support_range": M}
     else:
-        if ph.mode == "stripmap" and ph.real_aperture > 0:
-            W, wsum = _stripmap_weights(ph, plane, az, wfun)
-        else:
-            W = np.broadcast_to(wfun(P).astype(np.float32)[None, :], (az.size, P))
-            wsum = W.sum(axis=1)
+        W = np.broadcast_to(wfun(P).astype(np.float32)[None, :], (az.size, P))
+        wsum = W.sum(axis=1)
         row_origin = plane.points(az, np.zeros_like(az))
         wr = wfun(M)
         img = backproject(ph.data, ph.freq, ph.positions, ph.reference_range, row_origin, plane.range,
