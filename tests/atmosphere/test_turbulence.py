@@ -67,7 +67,8 @@ def test_von_karman_limits():
     fm = 5.92 / (2 * math.pi * 0.01)
     asym = 4 * math.pi ** 3 * PSD_CONST * 0.05 ** (-5 / 3) * fm ** (1 / 3) * gamma(1 / 6) / 2 * r ** 2
     assert li == pytest.approx(asym, rel=0.02)
-    assert li[0] < 0.1 * structure_function(r[:1], 0.05)[0]  # far below Kolmogorov at r << l0
+    ratio = li / structure_function(r, 0.05)  # r^2 against r^(5/3): the ratio goes as r^(1/3)
+    assert ratio[0] / ratio[1] == pytest.approx(10 ** (-1 / 3), rel=0.01)
 
 
 @pytest.mark.parametrize("n,count", [(64, 4000), (128, 2000)])

@@ -182,9 +182,15 @@ def structure_function(r, r0: float, outer_scale: float | None = None, inner_sca
             return SF_CONST * (r / r0) ** (5 / 3)
         x = 2 * math.pi * r / outer_scale
         return 2 * (outer_scale / r0) ** (5 / 3) * VK_CONST * _vk_deficit(x)
+    fm = 5.92 / (2 * math.pi * inner_scale)
     out = np.empty_like(r)
     for i, ri in enumerate(r):
-        f = np.logspace(-8, 6, 200001) / ri
-        g = 4 * math.pi * psd(f, r0, outer_scale, inner_scale) * (1 - special.j0(2 * math.pi * f * ri)) * f
-        out[i] = integrate.trapezoid(g, f)
+        def g(f):
+            return 4 * math.pi * psd(f, r0, outer_scale, inner_scale) * (1 - special.j0(2 * math.pi * f * ri)) * f
+        pts = {0.0, fm / 100, fm / 10, fm / 3, fm, 2 * fm, 4 * fm, 8 * fm, 16 * fm}
+        if has_L0:
+            pts |= {0.1 / outer_scale, 1 / outer_scale, 10 / outer_scale}
+        pts |= {k / ri for k in range(1, 200) if k / ri < 16 * fm}
+        edges = sorted(p for p in pts if p <= 16 * fm)
+        out[i] = sum(integrate.quad(g, a, b, limit=200)[0] for a, b in zip(edges[:-1], edges[1:]))
     return out
