@@ -151,6 +151,24 @@ def focus(raw: Path = typer.Argument(..., help="raw or phase-history NetCDF file
 
 @app.command()
 @_guard
+def screen(n: int = typer.Option(..., "--n", help="screen size, samples"),
+           dx: float = typer.Option(..., "--dx", help="sample spacing, m"),
+           r0: float = typer.Option(..., "--r0", help="Fried parameter, m"),
+           count: int = typer.Option(1, "--count", help="number of screens"),
+           seed: int = typer.Option(0, "--seed"),
+           outer_scale: Optional[float] = typer.Option(None, "--outer-scale", help="von Karman L0, m"),
+           inner_scale: Optional[float] = typer.Option(None, "--inner-scale", help="inner scale l0, m"),
+           out: Path = typer.Option(..., "--out", help="NetCDF file to write (a PNG of screen 0 beside it)")):
+    """Generate turbulence phase screens (rad) into a NetCDF file, with a picture of the first."""
+    from ..atmosphere import phase_screens
+    from ..io.screens import write_screens
+    phi = phase_screens(n, dx, r0, count=count, seed=seed, outer_scale=outer_scale, inner_scale=inner_scale)
+    nc, png = write_screens(phi, dx, out, r0=r0, seed=seed, outer_scale=outer_scale, inner_scale=inner_scale)
+    globals()["out"].print(f"wrote {nc} ({count} screens of {n} x {n}) and {png}")
+
+
+@app.command()
+@_guard
 def info(path: Path = typer.Argument(..., help="a salkit NetCDF file or a scenario YAML")):
     """Describe a data file or a scenario (with its derived quantities)."""
     if path.suffix.lower() in (".yaml", ".yml"):

@@ -91,3 +91,15 @@ def raw_phase_history(raw_ds, path) -> Path:
     ax.set_title("raw dechirped signal magnitude")
     fig.colorbar(im, ax=ax)
     return _save(fig, path)
+
+
+def screen_image(phi: np.ndarray, dx: float, path, title: str = "") -> Path:
+    """A phase screen (rad) with axes in metres."""
+    n = phi.shape[0]
+    fig, ax = plt.subplots(figsize=(5.6, 4.8))
+    im = ax.imshow(phi, origin="lower", extent=[0, phi.shape[1] * dx, 0, n * dx], cmap="viridis")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.set_title(title)
+    fig.colorbar(im, ax=ax, label="phase (rad)")
+    return _save(fig, path)

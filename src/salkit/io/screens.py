@@ -1,0 +1,32 @@
+"""Phase-screen files: variable ``phase`` (rad) with dims (screen, y, x), coordinates in metres."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from .datasets import write_dataset
+
+
+def screens_dataset(phi: np.ndarray, dx: float, **attrs) -> xr.Dataset:
+    """Labelled dataset of screens (K, n, n) with spacing ``dx`` (m) and generation parameters."""
+    from .. import __version__
+    K, ny, nx = phi.shape
+    a = {k: v for k, v in attrs.items() if v is not None}
+    a.update({"salkit_kind": "phase_screens", "salkit_version": __version__, "dx": dx,
+              "generator": "FFT (aliased, cell-integrated) + split near-DC cells + 8 subharmonic levels "
+                           "+ residual tilt"})
+    return xr.Dataset({"phase": (("screen", "y", "x"), phi, {"units": "rad", "long_name": "phase"})},
+                      coords={"screen": np.arange(K), "y": ("y", np.arange(ny) * dx, {"units": "m"}),
+                              "x": ("x", np.arange(nx) * dx, {"units": "m"})}, attrs=a)
+
+
+def write_screens(phi: np.ndarray, dx: float, path: str | Path, **attrs) -> tuple[Path, Path]:
+    """Write screens to NetCDF and the first screen to a PNG beside it (both atomically)."""
+    from ..plot import screen_image
+    path = Path(path)
+    write_dataset(screens_dataset(phi, dx, **attrs), path)
+    png = path.with_suffix(".png")
+    screen_image(phi[0], dx, png, title=f"phase screen 0 (r0 = {attrs.get('r0')} m)")
+    return path, png
