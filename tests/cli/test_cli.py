@@ -95,3 +95,17 @@ def test_examples_listed():
     assert r.returncode == 0
     for f in EXAMPLES.glob("*.yaml"):
         assert f.name in r.stdout
+
+
+def test_run_with_autofocus_records_history(tmp_path, scen):
+    out = tmp_path / "af"
+    r = salkit("run", scen, "--out", out, "--set", "platform.phase_error.amplitude=8",
+               "--set", "processing.autofocus=pga", "--set", "processing.autofocus_kernel=ev")
+    assert r.returncode == 0, r.stderr
+    m = json.loads((out / "metrics.json").read_text())
+    assert m["before_autofocus_irw_azimuth_m"] > 1.3 * m["irw_azimuth_theory_m"]
+    assert m["irw_azimuth_m"] == pytest.approx(m["irw_azimuth_theory_m"], rel=0.05)
+    assert m["autofocus_entropy_0"] > m[f"autofocus_entropy_{m['autofocus_best_iteration']}"]
+    for f in ("autofocus.png", "image_focus.nc"):
+        assert (out / f).is_file()
+    assert "autofocus.png" in (out / "report.html").read_text()

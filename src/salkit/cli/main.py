@@ -133,7 +133,9 @@ def focus(raw: Path = typer.Argument(..., help="raw or phase-history NetCDF file
           window: Optional[str] = typer.Option(None, help="none | hamming | taylor"),
           nx: Optional[int] = typer.Option(None), ny: Optional[int] = typer.Option(None),
           dx: Optional[float] = typer.Option(None), dy: Optional[float] = typer.Option(None),
-          plane: str = typer.Option("slant", help="slant | ground")):
+          plane: str = typer.Option("slant", help="slant | ground"),
+          autofocus: Optional[str] = typer.Option(None, help="none | pga | min-entropy"),
+          kernel: Optional[str] = typer.Option(None, help="PGA kernel: pd | lumv | ev")):
     """Focus a raw file into image.nc, metrics.json, figures and report.html."""
     from ..io import read_raw
     from ..systems.airborne import focus_file
@@ -142,10 +144,15 @@ def focus(raw: Path = typer.Argument(..., help="raw or phase-history NetCDF file
         raise ScenarioError("--algorithm", algorithm, "must be one of bp, pfa, omegak")
     if window is not None and window not in ("none", "hamming", "taylor"):
         raise ScenarioError("--window", window, "must be one of none, hamming, taylor")
+    if autofocus is not None and autofocus not in ("none", "pga", "min-entropy"):
+        raise ScenarioError("--autofocus", autofocus, "must be one of none, pga, min-entropy")
+    if kernel is not None and kernel not in ("pd", "lumv", "ev"):
+        raise ScenarioError("--kernel", kernel, "must be one of pd, lumv, ev")
     ds = read_raw(raw)
     grid = _grid(nx, ny, dx, dy, plane)
     with _Bar() as bar:
-        m = focus_file(ds, out_dir, algorithm=algorithm, window_name=window, grid=grid, progress=bar)
+        m = focus_file(ds, out_dir, algorithm=algorithm, window_name=window, grid=grid, progress=bar,
+                       autofocus=autofocus, kernel=kernel)
     _summary(m, out_dir)
 
 

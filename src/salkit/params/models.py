@@ -70,6 +70,32 @@ class Waveform(_Frozen):
 
 
 # --------------------------------------------------------------------------- platform
+class PhaseError(_Frozen):
+    """A known per-pulse phase error common to all scatterers (residual motion, vibration), for
+    validating autofocus. ``amplitude`` is the peak (quadratic: at the aperture ends; sinusoidal)
+    or the RMS (random, a low-pass Gaussian process), rad."""
+
+    kind: Literal["quadratic", "sinusoidal", "random"] = "quadratic"
+    amplitude: float = Field(gt=0, le=1e3, description="rad")
+    cycles: float = Field(default=2.5, gt=0, description="sinusoidal: cycles across the aperture")
+    bandwidth: float = Field(default=4.0, gt=0, description="random: cycles across the aperture")
+    seed: int = Field(default=0, ge=0)
+
+    def values(self, n: int):
+        """The error (rad) on n pulses."""
+        import numpy as np
+        t = np.linspace(-1, 1, n)
+        if self.kind == "quadratic":
+            return self.amplitude * t ** 2
+        if self.kind == "sinusoidal":
+            return self.amplitude * np.sin(np.pi * self.cycles * t)
+        rng = np.random.default_rng(self.seed)
+        r = rng.standard_normal(4 * n)
+        f = np.fft.fftfreq(4 * n)
+        r = np.real(np.fft.ifft(np.fft.fft(r) * (np.abs(f) <= self.bandwidth / (2 * n))))[:n]
+        return self.amplitude * (r - r.mean()) / r.std()
+
+
 class Platform(_Frozen):
     """Straight-line platform (or explicit per-pulse positions) with its beam pointing.
 
@@ -91,6 +117,7 @@ class Platform(_Frozen):
     positions: Optional[tuple[tuple[float, float, float], ...]] = Field(
         default=None, description="explicit antenna position per pulse, m (overrides the straight line)")
     intra_pulse_motion: bool = Field(default=False, description="model motion during each pulse")
+    phase_error: Optional[PhaseError] = Field(default=None, description="known per-pulse phase error")
 
     @model_validator(mode="after")
     def _geometry(self) -> "Platform":
@@ -229,7 +256,9 @@ class Processing(_Frozen):
     taylor_nbar: int = Field(default=4, ge=1)
     taylor_sll: float = Field(default=35.0, gt=13.3, description="Taylor sidelobe level, dB")
     grid: Grid
-    autofocus: Literal["none"] = "none"
+    autofocus: Literal["none", "pga", "min-entropy"] = "none"
+    autofocus_kernel: Literal["pd", "lumv", "ev"] = "lumv"
+    autofocus_max_iter: int = Field(default=30, ge=1, le=500)
     range_upsample: int = Field(default=8, ge=2, le=64, description="backprojection profile upsampling")
 
 

@@ -103,3 +103,26 @@ def screen_image(phi: np.ndarray, dx: float, path, title: str = "") -> Path:
     ax.set_title(title)
     fig.colorbar(im, ax=ax, label="phase (rad)")
     return _save(fig, path)
+
+
+def autofocus_history(res, path, title: str = "") -> Path:
+    """Per-iteration entropy and correction RMS, and the total phase correction (rad)."""
+    import scipy.fft as sfft
+    it = [h["iteration"] for h in res.history]
+    fig, axes = plt.subplots(1, 2, figsize=(11, 3.6))
+    ax = axes[0]
+    ax.plot(it, [h["entropy"] for h in res.history], "o-", label="entropy (nats)")
+    ax.axvline(res.best_iteration, color="gray", ls=":", label="returned")
+    ax.set_xlabel("iteration")
+    ax.set_ylabel("entropy (nats)")
+    ax2 = ax.twinx()
+    ax2.plot(it, [h["phase_rms"] for h in res.history], "s--", color="tab:red", label="correction RMS")
+    ax2.set_ylabel("correction RMS (rad)", color="tab:red")
+    ax.legend(loc="upper right", fontsize=8)
+    ax.set_title(title)
+    axes[1].plot(sfft.fftshift(res.phase))
+    axes[1].set_xlabel("phase-history bin (centred)")
+    axes[1].set_ylabel("estimated phase error (rad)")
+    axes[1].grid(alpha=0.3)
+    fig.subplots_adjust(wspace=0.45)
+    return _save(fig, path)

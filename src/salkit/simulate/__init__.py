@@ -169,6 +169,9 @@ def simulate(scenario: Scenario, progress: ProgressFn = None, noise: bool | None
     spos, samp = build_scatterers(scenario, cell, rng, smooth_phase)
     scale = signal_scale(scenario, col, n)
     sig = echo_signal(col, spos, samp * scale, scenario, t, progress=progress)
+    if scenario.platform.phase_error is not None:
+        err = scenario.platform.phase_error.values(col.n_pulses)
+        sig *= np.exp(1j * err).astype(np.complex64)[:, None]
     use_noise = scenario.receiver.noise.enabled if noise is None else noise
     if use_noise:
         photon_noise(sig, scenario.receiver.noise, rng)

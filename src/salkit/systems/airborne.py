@@ -92,6 +92,26 @@ def noise_metrics(scenario: Scenario, col, raw: xr.Dataset, image: xr.Dataset, d
     return out
 
 
+def run_autofocus(image: xr.Dataset, scenario: Scenario | None, out: Path, method: str | None = None,
+                  kernel: str | None = None, max_iter: int | None = None):
+    """Autofocus an image; keep the focused one as image_focus.nc; metrics before/after and history."""
+    from .. import plot
+    from ..autofocus import autofocus, history_metrics
+
+    p = scenario.processing if scenario is not None else None
+    method = method or p.autofocus
+    kernel = kernel or (p.autofocus_kernel if p else "lumv")
+    max_iter = max_iter or (p.autofocus_max_iter if p else 30)
+    write_dataset(image, out / "image_focus.nc")
+    before, _ = analyse_image(image, scenario)
+    af, res = autofocus(image, method, kernel=kernel, max_iter=max_iter)
+    m = {f"before_autofocus_{k}": v for k, v in before.items()
+         if k.startswith(("irw_", "pslr_", "islr_", "entropy", "contrast", "peak_"))}
+    m.update(history_metrics(res))
+    plot.autofocus_history(res, out / "autofocus.png", title=f"{method} ({kernel})")
+    return af, res, m
+
+
 def report_outputs(out: Path, image: xr.Dataset, metrics: dict, details: dict, scenario_text: str,
                    name: str, description: str, timings: dict, raw: xr.Dataset | None = None) -> None:
     """Write metrics.json, figures and report.html for a focused image."""
@@ -106,6 +126,8 @@ def report_outputs(out: Path, image: xr.Dataset, metrics: dict, details: dict, s
     if "_cut_range" in details:
         plot.cuts(details, metrics, image.attrs, out / "cuts.png")
         figs.append(("Cuts through the brightest target against theory", "cuts.png"))
+    if (out / "autofocus.png").exists():
+        figs.append(("Autofocus history", "autofocus.png"))
     if raw is not None and "fast_time" in raw:
         plot.raw_phase_history(raw, out / "raw.png")
         figs.append(("Raw dechirped data", "raw.png"))
@@ -151,8 +173,12 @@ def run(scenario: Scenario, out_dir: str | Path, progress: Progress = None) -> d
     cb = (lambda d, n: progress("focus", d, n)) if progress else None
     image = focus(raw, scenario.processing, progress=cb)
     t_focus = time.perf_counter() - t0
+    af_metrics, af_res = {}, None
+    if scenario.processing.autofocus != "none":
+        image, af_res, af_metrics = run_autofocus(image, scenario, out)
     write_dataset(image, out / "image.nc")
     metrics, details = analyse_image(image, scenario)
+    metrics.update(af_metrics)
     metrics.update({f"sampling_{k}": v for k, v in samp.as_dict().items()})
     metrics.update({"n_pulses": raw.sizes["slow_time"], "n_samples": raw.sizes["fast_time"],
                     "simulate_s": t_sim, "focus_s": t_focus})
@@ -166,7 +192,7 @@ def run(scenario: Scenario, out_dir: str | Path, progress: Progress = None) -> d
 
 def focus_file(raw: xr.Dataset, out_dir: str | Path, processing: Processing | None = None,
                algorithm: str | None = None, window_name: str | None = None, grid=None,
-               progress: Progress = None) -> dict:
+               progress: Progress = None, autofocus: str | None = None, kernel: str | None = None) -> dict:
     """Focus an existing raw file and write image.nc, metrics.json, figures and report.html."""
     from ..params.scenario import parse_scenario
     import yaml
@@ -183,8 +209,13 @@ def focus_file(raw: xr.Dataset, out_dir: str | Path, processing: Processing | No
     cb = (lambda d, n: progress("focus", d, n)) if progress else None
     image = focus(raw, processing, algorithm=algorithm, window_name=window_name, grid=grid, progress=cb)
     t_focus = time.perf_counter() - t0
+    af_metrics = {}
+    method = autofocus or (scenario.processing.autofocus if scenario is not None else "none")
+    if method != "none":
+        image, _, af_metrics = run_autofocus(image, scenario, out, method, kernel)
     write_dataset(image, out / "image.nc")
     metrics, details = analyse_image(image, scenario)
+    metrics.update(af_metrics)
     metrics["focus_s"] = t_focus
     text = raw.attrs.get("scenario", "# no scenario stored in the raw file\n")
     write_text_atomic(out / "scenario.yaml", text)
