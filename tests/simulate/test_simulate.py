@@ -7,7 +7,7 @@ import pytest
 from salkit.geometry import build_collection
 from salkit.geometry.collection import beam_gain_table
 from salkit.params import parse_scenario
-from salkit.simulate import echo_signal, fast_time_axis, simulate
+from salkit.simulate import _NO_PATH, echo_signal, fast_time_axis, simulate
 from salkit.simulate.kernels import simulate_exact
 
 from ..conftest import GEO, SPOT, merge
@@ -56,7 +56,7 @@ def test_exact_kernel_equals_fast_for_linear_chirp(spot):
     w = spot.waveform
     simulate_exact(col.positions, col.velocity, col.reference_range, col.boresight, pos, amp.real.copy(),
                    amp.imag.copy(), t[0], t[1] - t[0], w.carrier_frequency, w.rate, w.pulse_width,
-                   np.zeros(0), False, table, dsin, re, im)
+                   np.zeros(0), False, table, dsin, re, im, *_NO_PATH)
     np.testing.assert_allclose(re + 1j * im, fast, atol=1e-4)
 
 

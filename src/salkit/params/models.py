@@ -262,6 +262,19 @@ class Processing(_Frozen):
     range_upsample: int = Field(default=8, ge=2, le=64, description="backprojection profile upsampling")
 
 
+# --------------------------------------------------------------------------- atmosphere
+class Atmosphere(_Frozen):
+    """Turbulence on the path: frozen phase-screen layers with constant Cn^2 (seed 004)."""
+
+    cn2: float = Field(gt=0, lt=1e-9, description="refractive-index structure constant, m^(-2/3)")
+    layers: int = Field(default=50, ge=1, le=1000)
+    screen_dx: float = Field(default=0.01, gt=0, description="screen sample spacing, m")
+    screen_n: Optional[int] = Field(default=None, ge=16, le=8192, description="screen size; default: fits the rays")
+    outer_scale: Optional[float] = Field(default=None, gt=0, description="von Karman L0, m")
+    inner_scale: Optional[float] = Field(default=None, ge=0, description="inner scale l0, m")
+    seed: int = Field(default=0, ge=0)
+
+
 # --------------------------------------------------------------------------- scenario
 class Scenario(_Frozen):
     """A complete simulation and processing scenario."""
@@ -274,3 +287,4 @@ class Scenario(_Frozen):
     scene: Scene
     receiver: Receiver
     processing: Processing
+    atmosphere: Optional[Atmosphere] = None

@@ -23,9 +23,20 @@ def fast_time_axis(n: int, adc_rate: float) -> np.ndarray:
     return (np.arange(n) - n // 2) / adc_rate
 
 
+_NO_PATH = (np.zeros((0, 2, 2), np.float32), np.zeros(0), np.zeros((0, 2)), 1.0, np.array([0.0, 0.0, 1.0]),
+            np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0]))
+
+
+def _path_args(path):
+    if path is None:
+        return _NO_PATH
+    return (np.ascontiguousarray(path.screens, np.float32), np.asarray(path.z, float),
+            np.asarray(path.origin, float), float(path.dx), path.u0, path.a, path.b)
+
+
 def echo_signal(collection: Collection, scatter_pos: np.ndarray, scatter_amp: np.ndarray,
                 scenario: Scenario, fast_time: np.ndarray, chunk: int = 256,
-                progress: ProgressFn = None) -> np.ndarray:
+                progress: ProgressFn = None, path=None) -> np.ndarray:
     """Noise-free dechirped echoes (P, N) complex64 of the given scatterers.
 
     Parameters
@@ -43,8 +54,11 @@ def echo_signal(collection: Collection, scatter_pos: np.ndarray, scatter_amp: np
         Pulses per kernel call (bounds memory of the intermediate float32 planes).
     progress : callable, optional
         Called as ``progress(done_pulses, total_pulses)``.
+    path : TurbulentPath, optional
+        Frozen turbulence screens; each echo carries its two-way path phase.
     """
     w, p = scenario.waveform, scenario.platform
+    pargs = _path_args(path)
     P, N = collection.n_pulses, fast_time.size
     out = np.empty((P, N), np.complex64)
     table, dsin = beam_gain_table(w.wavelength, p.real_aperture)
@@ -65,11 +79,11 @@ def echo_signal(collection: Collection, scatter_pos: np.ndarray, scatter_amp: np
                            np.ascontiguousarray(collection.reference_range[a:b]),
                            np.ascontiguousarray(collection.boresight[a:b]), pos, are, aim, t0, dt,
                            w.carrier_frequency, w.rate, w.pulse_width, coeffs, p.intra_pulse_motion,
-                           table, dsin, re, im)
+                           table, dsin, re, im, *pargs)
         else:
             simulate_linear(args_geo[0], np.ascontiguousarray(collection.reference_range[a:b]),
                             np.ascontiguousarray(collection.boresight[a:b]), pos, are, aim, t0, dt,
-                            w.carrier_frequency, w.rate, w.pulse_width, table, dsin, re, im)
+                            w.carrier_frequency, w.rate, w.pulse_width, table, dsin, re, im, *pargs)
         out[a:b].real = re
         out[a:b].imag = im
         if progress is not None:
@@ -126,6 +140,40 @@ def signal_scale(scenario: Scenario, collection: Collection, n_samples: int) -> 
     return math.sqrt(nz.efficiency * nz.signal_photons / (n_samples * n_ap))
 
 
+def turbulent_path(scenario: Scenario, col: Collection):
+    """The scenario's frozen-screen path, with screens large enough for every ray.
+
+    Raises ScenarioError when an explicit ``atmosphere.screen_n`` is smaller than the area the rays
+    cross on some layer (the screen would be clamped at its edge).
+    """
+    from ..atmosphere.path import build_path
+    from ..errors import ScenarioError
+    from ..geometry.sampling import _scene_probe_points
+
+    atm = scenario.atmosphere
+    u0 = col.center_position / np.linalg.norm(col.center_position)
+    R = float(np.linalg.norm(col.center_position))
+    probe = _scene_probe_points(scenario)
+    # extent the rays cover on the layers: scene extent near the target, aperture near the platform
+    ends = np.stack([col.positions[0], col.positions[-1], col.positions[col.n_pulses // 2]])
+    from ..atmosphere.path import _crossings
+    a = col.track - np.dot(col.track, u0) * u0
+    a /= np.linalg.norm(a)
+    b = np.cross(u0, a)
+    need = 0.0
+    for frac in (0.0, 0.5, 1.0 - 0.5 / atm.layers):
+        q = _crossings(ends, probe, frac * R, u0)
+        need = max(need, float(np.ptp(q @ a)), float(np.ptp(q @ b)))
+    n_need = int(math.ceil(need / atm.screen_dx)) + 8
+    if atm.screen_n is not None and atm.screen_n < n_need:
+        raise ScenarioError("atmosphere.screen_n", atm.screen_n,
+                            f"the rays cross {need:.4g} m of a layer; at screen_dx = {atm.screen_dx:g} m the "
+                            f"screen needs >= {n_need} samples")
+    n = atm.screen_n or max(32, n_need)
+    return build_path(atm.cn2, R, scenario.waveform.wavelength, atm.layers, n, atm.screen_dx, u0, col.track,
+                      seed=atm.seed, outer_scale=atm.outer_scale, inner_scale=atm.inner_scale)
+
+
 def simulate(scenario: Scenario, progress: ProgressFn = None, noise: bool | None = None,
              rng: np.random.Generator | None = None) -> xr.Dataset:
     """Simulate the dechirped raw phase history of a scenario.
@@ -168,7 +216,8 @@ def simulate(scenario: Scenario, progress: ProgressFn = None, noise: bool | None
             return k * (np.linalg.norm(rel - np.outer(rel @ a, a), axis=1) - rs)
     spos, samp = build_scatterers(scenario, cell, rng, smooth_phase)
     scale = signal_scale(scenario, col, n)
-    sig = echo_signal(col, spos, samp * scale, scenario, t, progress=progress)
+    path = turbulent_path(scenario, col) if scenario.atmosphere is not None else None
+    sig = echo_signal(col, spos, samp * scale, scenario, t, progress=progress, path=path)
     if scenario.platform.phase_error is not None:
         err = scenario.platform.phase_error.values(col.n_pulses)
         sig *= np.exp(1j * err).astype(np.complex64)[:, None]

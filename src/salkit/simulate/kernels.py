@@ -16,6 +16,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from ..atmosphere.path import path_phase
 from ..constants import SPEED_OF_LIGHT
 
 _TWO_PI = 2.0 * math.pi
@@ -39,8 +40,12 @@ def _beam(dx, dy, dz, R, bx, by, bz, table, dsin):
 
 @njit(parallel=True, cache=True, fastmath=False)
 def simulate_linear(pos, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp, table, dsin,
-                    out_re, out_im):
-    """Stop-and-go, linear chirp: phase recurrence over fast time in blocks of 16 samples."""
+                    out_re, out_im, scr, scr_z, scr_org, scr_dx, u0, ax_a, ax_b):
+    """Stop-and-go, linear chirp: phase recurrence over fast time in blocks of 16 samples.
+
+    ``scr`` (L, n, n) are turbulence screens (L = 0: none); each echo then carries the two-way
+    path phase, twice the one-way phase along the antenna-scatterer ray (see atmosphere.path).
+    """
     P = pos.shape[0]
     S = scat.shape[0]
     N = out_re.shape[1]
@@ -76,6 +81,9 @@ def simulate_linear(pos, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp, tab
             cyc -= math.floor(cyc)
             step = -_TWO_PI * k * dt * dtau
             ph = _TWO_PI * cyc
+            if scr.shape[0] > 0:
+                ph += 2.0 * path_phase(px, py, pz, scat[s, 0], scat[s, 1], scat[s, 2], scr, scr_z, scr_org,
+                                       scr_dx, u0, ax_a, ax_b)
             ar = amp_re[s] * g
             ai = amp_im[s] * g
             cph, sph = math.cos(ph), math.sin(ph)
@@ -121,7 +129,7 @@ def _poly_diff(t, d, m):
 
 @njit(parallel=True, cache=True, fastmath=False)
 def simulate_exact(pos, vel, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp, coeffs, intra,
-                   table, dsin, out_re, out_im):
+                   table, dsin, out_re, out_im, scr, scr_z, scr_org, scr_dx, u0, ax_a, ax_b):
     """Per-sample evaluation: polynomial chirp nonlinearity and optional intra-pulse motion.
 
     ``coeffs[m]`` multiplies t**(m+2) in the frequency sweep (Hz/s**(m+2)); with intra-pulse motion
@@ -143,6 +151,11 @@ def simulate_exact(pos, vel, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp,
                 continue
             ar = amp_re[s] * g
             ai = amp_im[s] * g
+            if scr.shape[0] > 0:  # frozen screens: the path phase of the pulse
+                tph = 2.0 * path_phase(pos[p, 0], pos[p, 1], pos[p, 2], scat[s, 0], scat[s, 1], scat[s, 2],
+                                       scr, scr_z, scr_org, scr_dx, u0, ax_a, ax_b)
+                ctp, stp = math.cos(tph), math.sin(tph)
+                ar, ai = ar * ctp - ai * stp, ar * stp + ai * ctp
             for n in range(N):
                 t = t0 + n * dt
                 if intra:

@@ -1,0 +1,141 @@
+"""A turbulent path of frozen phase-screen layers between the scene and the platform.
+
+Layers are planes perpendicular to the nominal line of sight u0 (scene centre -> aperture centre),
+at distances z_i from the scene centre. The ray from the antenna p to a scatterer t crosses layer i
+at q = t + lambda (p - t), lambda = (z_i - t.u0) / ((p - t).u0); the screen is sampled there
+(bilinear). Monostatic and stop-and-go: transmit and receive follow the same ray through the same
+frozen screens, so the two-way phase is twice the one-way sum, and the two-way structure function
+is 4 times the one-way one: r0_two_way = 2^(-6/5) r0 (see docs/turbulence.md for the comparison
+with the seed's r0 / 2^(5/6)).
+
+Each layer of thickness dz gets r0_i = (0.423 k^2 Cn^2 dz)^(-3/5). Two rays from the same target
+to antennas a distance d apart cross layer i d z_i/R apart, so the one-way phase difference has
+D(d) = sum_i 6.88 (d z_i / (R r0_i))^(5/3): the spherical-wave r0 of the path, as it should be.
+"""
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit, prange
+
+from ..errors import ScenarioError
+from .screens import phase_screens
+from .turbulence import max_layer_spacing, r0_from_cn2, structure_function
+
+
+@dataclass(frozen=True)
+class TurbulentPath:
+    """Frozen screens (L, n, n) rad at distances ``z`` (L,) m from the scene centre along ``u0``.
+
+    Screen coordinates: sample (i, j) is at origin + i*dx*a + j*dx*b in the layer plane, with
+    ``a`` the along-track axis and ``b`` = u0 x a.
+    """
+
+    screens: np.ndarray
+    z: np.ndarray
+    r0: np.ndarray
+    dx: float
+    origin: np.ndarray  # (L, 2) plane coordinates (a, b) of sample (0, 0), m
+    u0: np.ndarray
+    a: np.ndarray
+    b: np.ndarray
+    wavelength: float
+
+    def crossing_extent(self, positions: np.ndarray, targets: np.ndarray) -> tuple[float, float]:
+        """Largest extents (along a, along b) the rays cover on any layer, m."""
+        ext_a, ext_b = 0.0, 0.0
+        for zi in self.z:
+            q = _crossings(positions, targets, zi, self.u0)
+            ext_a = max(ext_a, float(np.ptp(q @ self.a)))
+            ext_b = max(ext_b, float(np.ptp(q @ self.b)))
+        return ext_a, ext_b
+
+    def one_way_structure_function(self, d: np.ndarray, slant_range: float) -> np.ndarray:
+        """Theoretical D(d) (rad^2) of the one-way phase difference between antennas d apart."""
+        d = np.atleast_1d(np.asarray(d, dtype=np.float64))
+        return sum(structure_function(d * zi / slant_range, ri) for zi, ri in zip(self.z, self.r0))
+
+
+def _crossings(positions, targets, z, u0):
+    p = positions[:, None, :]
+    t = targets[None, :, :]
+    lam = (z - t @ u0) / np.maximum((p - t) @ u0, 1e-30)
+    return (t + lam[..., None] * (p - t)).reshape(-1, 3)
+
+
+def build_path(cn2: float, slant_range: float, wavelength: float, layers: int, n: int, dx: float,
+               u0: np.ndarray, a: np.ndarray, seed: int = 0, outer_scale: float | None = None,
+               inner_scale: float | None = None, centre: tuple[float, float] = (0.0, 0.0)) -> TurbulentPath:
+    """Equal layers over the path, each at the middle of its slab, with screens of n x n at dx.
+
+    Warns (with the numbers) when the layer spacing exceeds seed 004 eq 8.
+    """
+    if not (math.isfinite(cn2) and cn2 > 0):
+        raise ScenarioError("atmosphere.cn2", cn2, "must be finite and > 0")
+    if layers < 1:
+        raise ScenarioError("atmosphere.layers", layers, "must be >= 1")
+    dz = slant_range / layers
+    zmax = max_layer_spacing(cn2, wavelength)
+    if dz > zmax:
+        warnings.warn(f"atmosphere.layers: spacing {dz:.4g} m exceeds the Fresnel limit {zmax:.4g} m "
+                      f"(seed 004 eq 8) for Cn2 = {cn2:g}; use at least {math.ceil(slant_range / zmax)} layers",
+                      UserWarning, stacklevel=2)
+    z = (np.arange(layers) + 0.5) * dz
+    r0 = np.full(layers, float(r0_from_cn2(cn2, dz, wavelength)))
+    scr = np.empty((layers, n, n), np.float32)
+    rng = np.random.default_rng(seed)
+    for i in range(layers):
+        scr[i] = phase_screens(n, dx, float(r0[i]), count=1, rng=rng, outer_scale=outer_scale,
+                               inner_scale=inner_scale, dtype=np.float32)[0]
+    u0 = np.asarray(u0, float) / np.linalg.norm(u0)
+    a = np.asarray(a, float) - np.dot(a, u0) * u0
+    a /= np.linalg.norm(a)
+    b = np.cross(u0, a)
+    origin = np.tile(np.array(centre) - (n - 1) / 2 * dx, (layers, 1))
+    return TurbulentPath(scr, z, r0, dx, origin, u0, a, b, wavelength)
+
+
+@njit(cache=True, inline="always")
+def path_phase(px, py, pz, tx, ty, tz, screens, z, origin, dx, u0, a, b):
+    """One-way phase (rad) along the ray p -> t through all layers (bilinear interpolation)."""
+    L, n, _ = screens.shape
+    dpx, dpy, dpz = px - tx, py - ty, pz - tz
+    den = dpx * u0[0] + dpy * u0[1] + dpz * u0[2]
+    tu = tx * u0[0] + ty * u0[1] + tz * u0[2]
+    acc = 0.0
+    for l in range(L):
+        lam = (z[l] - tu) / den
+        qx, qy, qz = tx + lam * dpx, ty + lam * dpy, tz + lam * dpz
+        ca = ((qx * a[0] + qy * a[1] + qz * a[2]) - origin[l, 0]) / dx
+        cb = ((qx * b[0] + qy * b[1] + qz * b[2]) - origin[l, 1]) / dx
+        if ca < 0.0:
+            ca = 0.0
+        if cb < 0.0:
+            cb = 0.0
+        if ca > n - 1.001:
+            ca = n - 1.001
+        if cb > n - 1.001:
+            cb = n - 1.001
+        i0 = int(ca)
+        j0 = int(cb)
+        fa = ca - i0
+        fb = cb - j0
+        acc += ((1 - fa) * ((1 - fb) * screens[l, i0, j0] + fb * screens[l, i0, j0 + 1])
+                + fa * ((1 - fb) * screens[l, i0 + 1, j0] + fb * screens[l, i0 + 1, j0 + 1]))
+    return acc
+
+
+@njit(parallel=True, cache=True)
+def two_way_phases(positions, targets, screens, z, origin, dx, u0, a, b):
+    """Two-way path phase (P, S) rad: twice the one-way phase along the same ray."""
+    P = positions.shape[0]
+    S = targets.shape[0]
+    out = np.empty((P, S), np.float64)
+    for p in prange(P):
+        for s in range(S):
+            out[p, s] = 2.0 * path_phase(positions[p, 0], positions[p, 1], positions[p, 2], targets[s, 0],
+                                         targets[s, 1], targets[s, 2], screens, z, origin, dx, u0, a, b)
+    return out

@@ -1,0 +1,65 @@
+"""Multi-layer frozen-screen paths: pulse-to-pulse phase statistics against the path theory."""
+import math
+
+import numpy as np
+import pytest
+
+from salkit.atmosphere import r0_from_cn2
+from salkit.atmosphere.path import build_path, two_way_phases
+from salkit.errors import ScenarioError
+
+
+def test_two_way_phase_difference_matches_path_theory():
+    """Seed 004 geometry: 10 km, 2 um, 50 layers, Cn2 = 1e-14, 0.5 m aperture. Over an ensemble
+    of paths, <(phi(u + d) - phi(u))^2> of the two-way phase = 4 x the layered one-way theory
+    sum_i 6.88 (d z_i / (R r0_i))^(5/3) (spherical-wave weighting)."""
+    R, lam, L = 1e4, 2e-6, 0.5
+    u0, a = np.array([0.0, -0.6, 0.8]), np.array([1.0, 0.0, 0.0])
+    u = np.linspace(-L / 2, L / 2, 101)
+    pos = (R * u0)[None, :] + u[:, None] * a[None, :]
+    tgt = np.zeros((1, 3))
+    lags = np.array([10, 25, 50])  # pulses: d = 0.05, 0.125, 0.25 m
+    acc = np.zeros(lags.size)
+    K = 40
+    for seed in range(K):
+        path = build_path(1e-14, R, lam, 50, 80, 0.008, u0, a, seed=seed)
+        phi = two_way_phases(pos, tgt, path.screens, path.z, path.origin, path.dx, path.u0, path.a, path.b)[:, 0]
+        for i, g in enumerate(lags):
+            acc[i] += np.mean((phi[g:] - phi[:-g]) ** 2) / K
+    d = lags * (u[1] - u[0])
+    theory = 4 * path.one_way_structure_function(d, R)
+    assert acc == pytest.approx(theory, rel=0.15)
+    # the layered theory is the spherical-wave r0 of the path: 6.88 (d / r0_sph)^(5/3)
+    r0_sph = r0_from_cn2(1e-14, R, lam, "spherical")
+    assert path.one_way_structure_function(d, R) == pytest.approx(6.88 * (d / r0_sph) ** (5 / 3), rel=0.02)
+
+
+def test_simulated_raw_carries_the_path_phase():
+    """The simulator's echo of the scene-centre target is exp(j phi_two_way) per pulse."""
+    from salkit.geometry import build_collection
+    from salkit.params import parse_scenario
+    from salkit.simulate import simulate, turbulent_path
+    from ..conftest import SPOT, merge
+    sc = parse_scenario(merge(SPOT, atmosphere={"cn2": 1e-14, "layers": 20, "screen_dx": 0.005}))
+    col = build_collection(sc)
+    path = turbulent_path(sc, col)
+    phi = two_way_phases(col.positions, np.zeros((1, 3)), path.screens, path.z, path.origin, path.dx,
+                         path.u0, path.a, path.b)[:, 0]
+    raw = simulate(sc)["signal"].values
+    got = np.angle(raw.mean(axis=1))
+    refl = sc.scene.points[0].phase  # the reflectivity phase rides along
+    assert np.max(np.abs(np.angle(np.exp(1j * (got - phi - refl))))) < 1e-3
+    assert np.std(phi) > 0.1  # the turbulence is really there
+
+
+def test_screen_too_small_and_spacing_warning():
+    from salkit.params import parse_scenario
+    from salkit.simulate import simulate
+    from ..conftest import SPOT, merge
+    sc = parse_scenario(merge(SPOT, atmosphere={"cn2": 1e-14, "layers": 10, "screen_dx": 0.005, "screen_n": 16}))
+    with pytest.raises(ScenarioError, match="atmosphere.screen_n"):
+        simulate(sc)
+    with pytest.warns(UserWarning, match="Fresnel limit"):
+        build_path(1e-13, 1e4, 2e-6, 10, 32, 0.01, np.array([0, 0, 1.0]), np.array([1.0, 0, 0]))
+    with pytest.raises(ScenarioError, match="cn2"):
+        build_path(-1e-14, 1e4, 2e-6, 10, 32, 0.01, np.array([0, 0, 1.0]), np.array([1.0, 0, 0]))
