@@ -5,6 +5,7 @@ same run. Run with ``make bench`` (or ``.venv/bin/python benchmarks/run_all.py``
   vectorised over pixels), on the same phase history and grid; images compared.
 - PFA: time as a multiple of one complex FFT of the output size (scipy.fft, same workers).
 - simulation: scatterer-samples per second of the dechirped-echo simulator.
+- pga: PGA seconds per iteration at 256 x 256 and 2048 x 2048 (LUMV and eigenvector kernels).
 - screens: phase screens per second at N = 256, 1024, 4096 against aotools' ft_sh_phase_screen
   (install with ``pip install -e .[bench]``), and both generators' ensemble structure function
   against Kolmogorov theory from 2 pixels to N/4.
@@ -151,13 +152,34 @@ def bench_screens(sizes=(256, 1024, 4096)):
     return out
 
 
+def bench_pga(sizes=(256, 2048)):
+    """PGA time per iteration (LUMV kernel) on n x n images with a random smooth phase error."""
+    from salkit.autofocus.pga import pga
+    out = {}
+    rng = np.random.default_rng(0)
+    for n in sizes:
+        refl = (rng.standard_normal((n, n)) + 1j * rng.standard_normal((n, n))) * 0.1
+        idx = rng.integers(0, n, (n // 4, 2))
+        refl[idx[:, 0], idx[:, 1]] += 8
+        k = np.fft.fftfreq(n) * n
+        phi = 4.0 * (k / (n / 2)) ** 2
+        img = np.fft.ifft(np.fft.fft(refl, axis=0) * np.exp(1j * phi)[:, None], axis=0)
+        for kernel in ("lumv", "ev"):
+            pga(img[:, :8], kernel=kernel, max_iter=1)
+            t0 = time.perf_counter()
+            res = pga(img, kernel=kernel, max_iter=10, tol=0.0)
+            dt = time.perf_counter() - t0
+            out[f"pga_{kernel}_s_per_iteration_N{n}"] = dt / (len(res.history) - 1)
+    return out
+
+
 def main():
     info = {"machine": platform.processor() or platform.machine(), "cpus": os.cpu_count(),
             "python": platform.python_version(), "numpy": np.__version__}
     res = {}
     only = sys.argv[1:]
     for name, fn in (("backprojection", bench_backprojection), ("pfa", bench_pfa), ("simulation", bench_simulation),
-                     ("screens", bench_screens)):
+                     ("screens", bench_screens), ("pga", bench_pga)):
         if only and name not in only:
             continue
         t0 = time.perf_counter()

@@ -117,7 +117,7 @@ def pga(image: np.ndarray, kernel: str = "lumv", max_iter: int = 30, tol: float 
     """
     img = np.asarray(image, dtype=np.complex128)
     n = img.shape[0]
-    spec = sfft.fft(img, axis=0)
+    spec = sfft.fft(img, axis=0, workers=-1)
     if band is None:
         p = np.sum(np.abs(spec) ** 2, axis=1)
         band = p > 1e-3 * p.max()
@@ -145,8 +145,8 @@ def pga(image: np.ndarray, kernel: str = "lumv", max_iter: int = 30, tol: float 
         phi = sfft.ifftshift(phic)
         rms = float(np.sqrt(np.mean(est ** 2)))
         total += phi
-        spec = sfft.fft(img, axis=0) * np.exp(-1j * phi)[:, None]
-        img = sfft.ifft(spec, axis=0)
+        spec = sfft.fft(img, axis=0, workers=-1) * np.exp(-1j * phi)[:, None]
+        img = sfft.ifft(spec, axis=0, workers=-1)
         e = entropy(img)
         history.append({"iteration": it, "phase_rms": rms, "entropy": e, "window": width})
         if e < best[0]:
@@ -169,7 +169,7 @@ def min_entropy(image: np.ndarray, order: int = 24, band: np.ndarray | None = No
 
     img0 = np.asarray(image, dtype=np.complex128)
     n = img0.shape[0]
-    G = sfft.fft(img0, axis=0)
+    G = sfft.fft(img0, axis=0, workers=-1)
     if band is None:
         p = np.sum(np.abs(G) ** 2, axis=1)
         band = p > 1e-3 * p.max()
@@ -186,12 +186,12 @@ def min_entropy(image: np.ndarray, order: int = 24, band: np.ndarray | None = No
     def fun(c):
         phi = Bfft @ c
         H = G * np.exp(1j * phi)[:, None]
-        I = sfft.ifft(H, axis=0)
+        I = sfft.ifft(H, axis=0, workers=-1)
         a = np.abs(I) ** 2
         q = np.maximum(a / S, 1e-300)
         E = float(-(q * np.log(q)).sum())
         w = -(np.log(q) + 1) / S
-        Y = sfft.fft(w * I, axis=0)
+        Y = sfft.fft(w * I, axis=0, workers=-1)
         grad_phi = -2 * np.sum(np.imag(H * np.conj(Y)), axis=1) / n
         hist.append(E)
         return E, Bfft.T @ grad_phi
