@@ -133,7 +133,13 @@ def pga(image: np.ndarray, kernel: str = "lumv", max_iter: int = 30, tol: float 
         win = np.zeros(n)
         c = n // 2
         win[max(c - width // 2, 0):min(c + width // 2 + 1, n)] = 1.0
-        G = sfft.fft(sfft.ifftshift(shifted * win[:, None], axes=0), axis=0)
+        windowed = shifted * win[:, None]
+        # weight range lines by dominance: the share of their windowed energy in the centred peak;
+        # lines holding several comparable scatterers bias the gradient and get little weight
+        e_line = np.sum(np.abs(windowed) ** 2, axis=0)
+        dom = np.abs(windowed[n // 2]) ** 2 / np.maximum(e_line, 1e-300)
+        windowed = windowed * dom[None, :]
+        G = sfft.fft(sfft.ifftshift(windowed, axes=0), axis=0, workers=-1)
         # estimate over the contiguous band (in centred order so it does not wrap)
         bc = sfft.fftshift(band)
         sel = np.flatnonzero(bc)

@@ -38,7 +38,11 @@ def main(argv=None) -> int:
         try:
             sc = load_scenario(f, DEMO_SETS.get(name, []))
             with _Bar() as bar:
-                m = run(sc, out / name, progress=bar)
+                if sc.experiment is not None:
+                    from ..systems.turbulence import run as run_experiment
+                    m = run_experiment(sc, out / name, progress=bar)
+                else:
+                    m = run(sc, out / name, progress=bar)
         except SalkitError as e:
             print(f"error: {e}", file=sys.stderr)
             return 2

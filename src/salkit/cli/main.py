@@ -94,6 +94,12 @@ def run(scenario: Path = typer.Argument(..., help="scenario YAML"),
     from ..systems.airborne import run as run_system
     sets = list(set_) + ([f"processing.algorithm={algorithm}"] if algorithm else [])
     sc = load_scenario(scenario, sets)
+    if sc.experiment is not None:
+        from ..systems.turbulence import run as run_experiment
+        with _Bar() as bar:
+            m = run_experiment(sc, out_dir, progress=bar)
+        out.print(f"report: {Path(out_dir) / 'report.html'}")
+        return
     with _Bar() as bar:
         m = run_system(sc, out_dir, progress=bar)
     _summary(m, out_dir)

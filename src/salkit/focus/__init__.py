@@ -151,7 +151,7 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, algorithm
     plane = plane_from(ph.track, ph.center_position, g.plane)
     az, rg = grid_axes(g)
     res = theory_resolution(ph, plane)
-    if g.dx > res["azimuth"] * (1 + 1e-6) or g.dy > res["range"] * (1 + 1e-6):
+    if g.dx > res["azimuth"] * 1.01 or g.dy > res["range"] * 1.01:
         raise ScenarioError("processing.grid", f"dx={g.dx:g}, dy={g.dy:g}",
                             f"spacing must not exceed the resolution (azimuth {res['azimuth']:.4g} m, "
                             f"range {res['range']:.4g} m)")

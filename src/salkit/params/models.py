@@ -275,6 +275,28 @@ class Atmosphere(_Frozen):
     seed: int = Field(default=0, ge=0)
 
 
+class TurbulenceExperiment(_Frozen):
+    """Seed 004's experiment: point and "I" targets under turbulence classes, PFA, PGA."""
+
+    kind: Literal["turbulence_pga"] = "turbulence_pga"
+    classes: dict[str, float] = Field(default_factory=lambda: {"none": 0.0, "weak": 1e-15, "medium": 1e-14,
+                                                               "strong": 1e-13},
+                                      description="class name -> Cn^2 (0: no turbulence), m^(-2/3)")
+    i_target_extent: tuple[float, float] = (0.6, 0.6)
+    i_target_spacing: float = Field(default=0.04, gt=0, description="point spacing of the I target, m")
+    ensemble_screens: int = Field(default=200, ge=100, description="screens for the structure-function figure")
+    ensemble_n: int = Field(default=64, ge=16, le=1024)
+    pga_iterations: tuple[int, ...] = (5, 10, 20)
+
+    @field_validator("classes")
+    @classmethod
+    def _cn2(cls, v):
+        for name, c in v.items():
+            if not (c >= 0 and c < 1e-9):
+                raise ValueError(f"class {name!r}: Cn2 = {c!r} must be in [0, 1e-9)")
+        return v
+
+
 # --------------------------------------------------------------------------- scenario
 class Scenario(_Frozen):
     """A complete simulation and processing scenario."""
@@ -288,3 +310,4 @@ class Scenario(_Frozen):
     receiver: Receiver
     processing: Processing
     atmosphere: Optional[Atmosphere] = None
+    experiment: Optional[TurbulenceExperiment] = None

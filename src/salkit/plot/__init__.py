@@ -126,3 +126,95 @@ def autofocus_history(res, path, title: str = "") -> Path:
     axes[1].grid(alpha=0.3)
     fig.subplots_adjust(wspace=0.45)
     return _save(fig, path)
+
+
+def screens_figure(path, out) -> Path:
+    """Seed 004 figs 1-2: one layer's screen and the sum of all layers (rad), axes in metres."""
+    n = path.screens.shape[1]
+    ext = [0, n * path.dx, 0, n * path.dx]
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.4))
+    for ax, data, t in ((axes[0], path.screens[0], f"one layer (z = {path.z[0]:.0f} m, r0 = {path.r0[0]:.3g} m)"),
+                        (axes[1], path.screens.sum(axis=0), f"sum of {path.screens.shape[0]} layers")):
+        im = ax.imshow(data.T, origin="lower", extent=ext, cmap="viridis")
+        ax.set_title(t, fontsize=9)
+        ax.set_xlabel("along track (m)")
+        ax.set_ylabel("across (m)")
+        fig.colorbar(im, ax=ax, label="rad")
+    return _save(fig, out)
+
+
+def structure_function_figure(r, d, err, theory, out, title="") -> Path:
+    """Seed 004 fig 3: ensemble structure function against theory, and their ratio."""
+    fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
+    axes[0].loglog(r, theory, "k-", label="theory 6.88 (r/r0)^(5/3)")
+    axes[0].errorbar(r, d, yerr=err, fmt="o", ms=3, label="ensemble")
+    axes[0].set_xlabel("separation (m)")
+    axes[0].set_ylabel("D(r) (rad^2)")
+    axes[0].legend(fontsize=8)
+    axes[0].set_title(title, fontsize=9)
+    axes[1].errorbar(r / r[0], d / theory, yerr=err / theory, fmt="o-", ms=3)
+    axes[1].axhspan(0.97, 1.03, color="g", alpha=0.15, label="+-3 %")
+    axes[1].axhline(1, color="k", lw=0.8)
+    axes[1].set_xlabel("separation (pixels)")
+    axes[1].set_ylabel("measured / theory")
+    axes[1].legend(fontsize=8)
+    return _save(fig, out)
+
+
+def ipr_classes_figure(cuts, out) -> Path:
+    """Seed 004 fig 4: azimuth IPR of the point target per class, before and after PGA."""
+    fig, axes = plt.subplots(1, 2, figsize=(11, 3.8), sharey=True)
+    for ax, idx, t in ((axes[0], 0, "focused (PFA)"), (axes[1], 1, "after PGA")):
+        for name, pair in cuts.items():
+            m = pair[idx]
+            y = m["_cut_azimuth"] ** 2
+            y = y / max(cuts[list(cuts)[0]][0]["_cut_azimuth"].max() ** 2, 1e-30)
+            x = m["_cut_origin_az"] + np.arange(y.size) * m["_cut_dx"]
+            ax.plot(x * 100, 10 * np.log10(np.maximum(y, 1e-6)), label=name)
+        ax.set_xlabel("azimuth (cm)")
+        ax.set_title(t)
+        ax.set_ylim(-40, 3)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    axes[0].set_ylabel("dB (re. no turbulence)")
+    return _save(fig, out)
+
+
+def _db(img, ref):
+    a = np.abs(img) / max(ref, 1e-30)
+    return 20 * np.log10(np.maximum(a, 1e-4))
+
+
+def image_grid_figure(images, out) -> Path:
+    """Seed 004 fig 5: the I target under each class, before (top) and after PGA (bottom)."""
+    names = list(images)
+    fig, axes = plt.subplots(2, len(names), figsize=(3.2 * len(names), 6.2), squeeze=False)
+    for j, name in enumerate(names):
+        for i, ds in enumerate(images[name]):
+            img = ds["image"].values
+            az, rg = ds["azimuth"].values, ds["range"].values
+            keep_a, keep_r = np.abs(az) <= 0.5, np.abs(rg) <= 0.5
+            sub = img[np.ix_(keep_a, keep_r)]
+            axes[i, j].imshow(_db(sub, np.abs(sub).max()).T, origin="lower", cmap="gray", vmin=-30, vmax=0,
+                              extent=[az[keep_a][0], az[keep_a][-1], rg[keep_r][0], rg[keep_r][-1]])
+            axes[i, j].set_title(f"{name}{' + PGA' if i else ''}", fontsize=9)
+            axes[i, j].set_xlabel("azimuth (m)", fontsize=8)
+    axes[0, 0].set_ylabel("range (m)")
+    axes[1, 0].set_ylabel("range (m)")
+    return _save(fig, out)
+
+
+def pga_steps_figure(before, steps, out, title="") -> Path:
+    """Seed 004 figs 6-8: the I target after PGA capped at 5, 10 and 20 iterations."""
+    items = [("focused", before)] + list(steps.items())
+    fig, axes = plt.subplots(1, len(items), figsize=(3.2 * len(items), 3.4))
+    for ax, (t, ds) in zip(axes, items):
+        img = ds["image"].values
+        az, rg = ds["azimuth"].values, ds["range"].values
+        ka, kr = np.abs(az) <= 0.5, np.abs(rg) <= 0.5
+        sub = img[np.ix_(ka, kr)]
+        ax.imshow(_db(sub, np.abs(sub).max()).T, origin="lower", cmap="gray", vmin=-30, vmax=0,
+                  extent=[az[ka][0], az[ka][-1], rg[kr][0], rg[kr][-1]])
+        ax.set_title(f"{title}: {t}", fontsize=8)
+        ax.set_xlabel("azimuth (m)", fontsize=8)
+    return _save(fig, out)

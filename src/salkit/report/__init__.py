@@ -61,3 +61,12 @@ def write_report(out_dir: str | Path, context: dict) -> Path:
                       autoescape=select_autoescape(["html"]))
     html = env.get_template("report.html").render(**context)
     return write_text_atomic(Path(out_dir) / "report.html", html)
+
+
+def write_turbulence_report(out_dir, scenario, rows, metrics) -> Path:
+    """report.html of the seed 004 experiment."""
+    from ..params.scenario import dump_scenario
+    env = Environment(loader=PackageLoader("salkit", "report/templates"), autoescape=select_autoescape(["html"]))
+    html = env.get_template("turbulence.html").render(name=scenario.name, description=scenario.description,
+                                                      rows=rows, metrics=metrics, scenario=dump_scenario(scenario))
+    return write_text_atomic(Path(out_dir) / "report.html", html)

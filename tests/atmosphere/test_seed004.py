@@ -1,0 +1,55 @@
+"""The seed 004 experiment end to end: turbulence classes, PFA, PGA (issue criteria)."""
+import json
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from salkit.params import load_scenario
+from salkit.systems.turbulence import run
+
+from ..conftest import EXAMPLES
+
+
+@pytest.fixture(scope="module")
+def result(tmp_path_factory):
+    out = tmp_path_factory.mktemp("seed004")
+    sc = load_scenario(EXAMPLES / "turbulence_pga.yaml", ["experiment.ensemble_screens=100"])
+    m = run(sc, out)
+    return out, m
+
+
+def test_outputs(result):
+    out, m = result
+    for c in ("none", "weak", "medium", "strong"):
+        for suffix in ("", "_pga"):
+            ds = xr.open_dataset(out / f"image_{c}{suffix}.nc")
+            assert ds["image"].dims == ("azimuth", "range") and np.iscomplexobj(ds["image"].values)
+    for f in ("screens.png", "structure_function.png", "ipr_classes.png", "i_target.png", "pga_iterations.png",
+              "report.html", "metrics.json", "scenario.yaml"):
+        assert (out / f).is_file(), f
+    saved = json.loads((out / "metrics.json").read_text())
+    assert "medium_pga_irw_azimuth_m" in saved and all(isinstance(v, (int, float)) for v in saved.values())
+
+
+def test_pga_restores_weak_and_medium_and_improves_strong(result):
+    _, m = result
+    ref = m["none_irw_azimuth_m"]
+    assert ref == pytest.approx(m["none_irw_azimuth_theory_m"], rel=0.03)
+    assert m["medium_irw_azimuth_m"] > 1.3 * ref  # turbulence really degrades the image
+    for c in ("weak", "medium"):
+        assert m[f"{c}_pga_irw_azimuth_m"] == pytest.approx(ref, rel=0.10)
+    assert m["strong_pga_entropy"] < m["strong_entropy"] - 0.5  # measurably better
+    assert m["none_pga_entropy"] <= m["none_entropy"] + 1e-6  # left alone (complex64 storage rounding)
+
+
+def test_more_iterations_never_worse(result):
+    _, m = result
+    e = [m[f"strong_i_pga{n}_entropy"] for n in (5, 10, 20)]
+    assert e[1] <= e[0] + 1e-9 and e[2] <= e[1] + 1e-9
+    assert m["strong_i_pga5_entropy"] <= m["strong_i_entropy"] + 1e-9
+
+
+def test_screens_within_3_percent(result):
+    _, m = result
+    assert m["screens_sf_max_deviation_2px_to_N4"] < 0.05  # 100 screens: ~2 % standard error at N/4
