@@ -66,25 +66,30 @@ def _crossings(positions, targets, z, u0):
     return (t + lam[..., None] * (p - t)).reshape(-1, 3)
 
 
-def build_path(cn2: float, slant_range: float, wavelength: float, layers: int, n: int, dx: float,
+def build_path(cn2, slant_range: float, wavelength: float, layers: int, n: int, dx: float,
                u0: np.ndarray, a: np.ndarray, seed: int = 0, outer_scale: float | None = None,
                inner_scale: float | None = None, centre: tuple[float, float] = (0.0, 0.0)) -> TurbulentPath:
     """Equal layers over the path, each at the middle of its slab, with screens of n x n at dx.
 
-    Warns (with the numbers) when the layer spacing exceeds seed 004 eq 8.
+    ``cn2`` is a constant or one value per layer (index 0 next to the scene): a profiled path.
+    Warns (with the numbers) when the layer spacing exceeds seed 004 eq 8 for the strongest layer.
     """
-    if not (math.isfinite(cn2) and cn2 > 0):
-        raise ScenarioError("atmosphere.cn2", cn2, "must be finite and > 0")
     if layers < 1:
         raise ScenarioError("atmosphere.layers", layers, "must be >= 1")
+    prof = np.broadcast_to(np.asarray(cn2, dtype=np.float64), (layers,)) if np.ndim(cn2) == 0 else \
+        np.asarray(cn2, dtype=np.float64)
+    if prof.shape != (layers,):
+        raise ScenarioError("atmosphere.cn2", f"{prof.size} values", f"a profile needs one value per layer ({layers})")
+    if not np.all(np.isfinite(prof)) or np.any(prof <= 0):
+        raise ScenarioError("atmosphere.cn2", cn2, "must be finite and > 0")
     dz = slant_range / layers
-    zmax = max_layer_spacing(cn2, wavelength)
+    zmax = max_layer_spacing(float(prof.max()), wavelength)
     if dz > zmax:
         warnings.warn(f"atmosphere.layers: spacing {dz:.4g} m exceeds the Fresnel limit {zmax:.4g} m "
-                      f"(seed 004 eq 8) for Cn2 = {cn2:g}; use at least {math.ceil(slant_range / zmax)} layers",
-                      UserWarning, stacklevel=2)
+                      f"(seed 004 eq 8) for Cn2 = {prof.max():g}; use at least {math.ceil(slant_range / zmax)} "
+                      f"layers", UserWarning, stacklevel=2)
     z = (np.arange(layers) + 0.5) * dz
-    r0 = np.full(layers, float(r0_from_cn2(cn2, dz, wavelength)))
+    r0 = np.asarray(r0_from_cn2(prof, dz, wavelength), dtype=np.float64)
     scr = np.empty((layers, n, n), np.float32)
     rng = np.random.default_rng(seed)
     for i in range(layers):

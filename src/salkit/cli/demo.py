@@ -48,6 +48,11 @@ def main(argv=None) -> int:
             return 2
         dt = time.perf_counter() - t0
         rows.append((name, dt, m))
+        if "medium_irw_azimuth_m" in m:
+            print(f"   {dt:.1f} s  medium turbulence: azimuth IRW {m['medium_irw_azimuth_m'] * 100:.3f} cm, after PGA "
+                  f"{m['medium_pga_irw_azimuth_m'] * 100:.3f} cm (turbulence-free {m['none_irw_azimuth_m'] * 100:.3f} cm)",
+                  flush=True)
+            continue
         print(f"   {dt:.1f} s  IRW rg {m.get('irw_range_m', float('nan')) * 100:.3f} cm "
               f"(theory {m.get('irw_range_theory_m', float('nan')) * 100:.3f}), "
               f"az {m.get('irw_azimuth_m', float('nan')) * 100:.3f} cm "

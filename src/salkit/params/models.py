@@ -266,13 +266,25 @@ class Processing(_Frozen):
 class Atmosphere(_Frozen):
     """Turbulence on the path: frozen phase-screen layers with constant Cn^2 (seed 004)."""
 
-    cn2: float = Field(gt=0, lt=1e-9, description="refractive-index structure constant, m^(-2/3)")
+    cn2: float | tuple[float, ...] = Field(description=(
+        "refractive-index structure constant, m^(-2/3): constant, or one value per layer from the "
+        "scene to the platform (profile)"))
     layers: int = Field(default=50, ge=1, le=1000)
     screen_dx: float = Field(default=0.01, gt=0, description="screen sample spacing, m")
     screen_n: Optional[int] = Field(default=None, ge=16, le=8192, description="screen size; default: fits the rays")
     outer_scale: Optional[float] = Field(default=None, gt=0, description="von Karman L0, m")
     inner_scale: Optional[float] = Field(default=None, ge=0, description="inner scale l0, m")
     seed: int = Field(default=0, ge=0)
+
+    @model_validator(mode="after")
+    def _profile(self) -> "Atmosphere":
+        values = self.cn2 if isinstance(self.cn2, tuple) else (self.cn2,)
+        for v in values:
+            if not (v > 0 and v < 1e-9):
+                raise ValueError(f"cn2 value {v!r} must be in (0, 1e-9) m^(-2/3)")
+        if isinstance(self.cn2, tuple) and len(self.cn2) != self.layers:
+            raise ValueError(f"a cn2 profile needs one value per layer: {len(self.cn2)} values, {self.layers} layers")
+        return self
 
 
 class TurbulenceExperiment(_Frozen):

@@ -9,6 +9,7 @@ report.html.
 from __future__ import annotations
 
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -93,33 +94,35 @@ def run(scenario: Scenario, out_dir, progress=None) -> dict:
     cuts, i_images, rows = {}, {}, []
     p = scenario.processing
     n_cls = len(exp.classes)
-    for ci, (name, cn2) in enumerate(exp.classes.items()):
+    with warnings.catch_warnings():  # the replica warning was given once above
+        warnings.filterwarnings("ignore", message="processing.grid spans")
+        for ci, (name, cn2) in enumerate(exp.classes.items()):
+            if progress:
+                progress("classes", ci, n_cls)
+            sc_pt = _with(scenario, cn2, scenario.scene.points)
+            img = focus(simulate(sc_pt), sc_pt.processing)
+            write_dataset(img, out / f"image_{name}.nc")
+            af, res = autofocus(img, "pga", kernel=p.autofocus_kernel, max_iter=p.autofocus_max_iter)
+            write_dataset(af, out / f"image_{name}_pga.nc")
+            m0, m1 = measure(img, details=True), measure(af, details=True)
+            for k in KEYS:
+                metrics[f"{name}_{k}"] = float(m0[k])
+                metrics[f"{name}_pga_{k}"] = float(m1[k])
+            metrics[f"{name}_irw_azimuth_theory_m"] = float(m0["irw_azimuth_theory_m"])
+            metrics.update(history_metrics(res, prefix=f"{name}_pga"))
+            cuts[name] = (m0, m1)
+            sc_i = _with(scenario, cn2, i_pts)
+            img_i = focus(simulate(sc_i), sc_i.processing)
+            af_i, _ = autofocus(img_i, "pga", kernel=p.autofocus_kernel, max_iter=p.autofocus_max_iter)
+            i_images[name] = (img_i, af_i)
+            metrics[f"{name}_i_entropy"] = float(measure(img_i)["entropy"])
+            metrics[f"{name}_i_pga_entropy"] = float(measure(af_i)["entropy"])
+            rows.append({"name": name, "cn2": cn2, "class": turbulence_class(cn2) if cn2 > 0 else "none",
+                         **{k: metrics[f"{name}_{k}"] for k in KEYS}, **{f"pga_{k}": metrics[f"{name}_pga_{k}"] for k in KEYS},
+                         "iterations": len(res.history) - 1, "i_entropy": metrics[f"{name}_i_entropy"],
+                         "i_pga_entropy": metrics[f"{name}_i_pga_entropy"]})
         if progress:
-            progress("classes", ci, n_cls)
-        sc_pt = _with(scenario, cn2, scenario.scene.points)
-        img = focus(simulate(sc_pt), sc_pt.processing)
-        write_dataset(img, out / f"image_{name}.nc")
-        af, res = autofocus(img, "pga", kernel=p.autofocus_kernel, max_iter=p.autofocus_max_iter)
-        write_dataset(af, out / f"image_{name}_pga.nc")
-        m0, m1 = measure(img, details=True), measure(af, details=True)
-        for k in KEYS:
-            metrics[f"{name}_{k}"] = float(m0[k])
-            metrics[f"{name}_pga_{k}"] = float(m1[k])
-        metrics[f"{name}_irw_azimuth_theory_m"] = float(m0["irw_azimuth_theory_m"])
-        metrics.update(history_metrics(res, prefix=f"{name}_pga"))
-        cuts[name] = (m0, m1)
-        sc_i = _with(scenario, cn2, i_pts)
-        img_i = focus(simulate(sc_i), sc_i.processing)
-        af_i, _ = autofocus(img_i, "pga", kernel=p.autofocus_kernel, max_iter=p.autofocus_max_iter)
-        i_images[name] = (img_i, af_i)
-        metrics[f"{name}_i_entropy"] = float(measure(img_i)["entropy"])
-        metrics[f"{name}_i_pga_entropy"] = float(measure(af_i)["entropy"])
-        rows.append({"name": name, "cn2": cn2, "class": turbulence_class(cn2) if cn2 > 0 else "none",
-                     **{k: metrics[f"{name}_{k}"] for k in KEYS}, **{f"pga_{k}": metrics[f"{name}_pga_{k}"] for k in KEYS},
-                     "iterations": len(res.history) - 1, "i_entropy": metrics[f"{name}_i_entropy"],
-                     "i_pga_entropy": metrics[f"{name}_i_pga_entropy"]})
-    if progress:
-        progress("classes", n_cls, n_cls)
+            progress("classes", n_cls, n_cls)
     plot.ipr_classes_figure(cuts, out / "ipr_classes.png")
     plot.image_grid_figure(i_images, out / "i_target.png")
     # PGA after 5, 10, 20 iterations (capped) on the strongest class with turbulence
