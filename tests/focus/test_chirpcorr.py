@@ -1,0 +1,93 @@
+"""Nonlinear chirp corrections against the ideal linear chirp (seed 002, section 4.1 parameters)."""
+import math
+
+import numpy as np
+import pytest
+
+from salkit.focus.chirpcorr import (PhaseUnwrapError, correct_deskew, correct_paper, correct_resample,
+                                    estimate_nonlinear_phase, reference_beat, spectral_width)
+from salkit.focus.rangecomp import deskew
+from salkit.metrics.pointtarget import ipr_1d
+
+C = 299792458.0
+F0, K, TP = C / 1.55e-6, 5.44e14, 7.8e-6
+COEFFS = (5.58e18 / 2, 8.58e22 / 6)  # f''/2, f'''/6: R1 = R2 = 50 (1 % of the sweep at the edge)
+FS = 250e6
+N = int(TP * FS) - 2
+T = (np.arange(N) - N // 2) / FS
+DR = (1.9 - 0.5) / C  # reference path 1.9 m, reference LO 0.5 m
+
+
+def profile(sig, up=16):
+    spec = np.fft.fftshift(np.fft.fft(sig, n=sig.size * up))
+    return spec, FS / (sig.size * up)
+
+
+def figures(sig):
+    spec, df = profile(sig)
+    m = ipr_1d(spec, df, K / FS * 0 + FS / N)
+    return m["irw"], m["pslr_db"]
+
+
+def _case(rng_m, coeffs):
+    dz = 2 * rng_m / C
+    ideal = deskew(reference_beat(T, F0, K, (), dz)[None], FS, K)[0]
+    raw = reference_beat(T, F0, K, coeffs, dz)[None].astype(np.complex64)
+    e = estimate_nonlinear_phase(reference_beat(T, F0, K, coeffs, DR), T, F0, K, DR)
+    return ideal, raw, e
+
+
+@pytest.mark.parametrize("rng_m", [5.0, 19.8645, 26.9355])
+def test_resampling_reaches_the_ideal_at_seed_nonlinearity(rng_m):
+    """R1 = R2 = 50: the reference-estimated chirp and resampling to uniform optical frequency give
+    IRW within 5 % and PSLR within 1 dB of the linear chirp at every range; uncorrected fails."""
+    ideal, raw, e = _case(rng_m, COEFFS)
+    irw_i, pslr_i = figures(ideal)
+    assert figures(deskew(raw, FS, K)[0])[0] > 1.5 * irw_i  # uncorrected: badly defocused
+    irw, pslr = figures(deskew(correct_resample(raw, e, T, K), FS, K)[0])
+    assert irw == pytest.approx(irw_i, rel=0.05)
+    assert abs(pslr - pslr_i) < 1.0
+
+
+@pytest.mark.parametrize("rng_m", [5.0, 26.9355])
+def test_deskew_correction_reaches_the_ideal_in_its_regime(rng_m):
+    """Meta et al.'s exp(+je) / deskew / exp(-je) is exact while the nonlinear frequency excursion
+    is small against the beat spread (here R1 = R2 ~ 500, 69 rad of e); at the seed's R1 = R2 = 50
+    (690 rad, +-42 MHz) the deskew's linear frequency-to-delay mapping breaks (docs/chirp.md)."""
+    coeffs = tuple(0.1 * c for c in COEFFS)
+    ideal, raw, e = _case(rng_m, coeffs)
+    irw_i, pslr_i = figures(ideal)
+    irw, pslr = figures(correct_deskew(raw, e, FS, K)[0])
+    assert irw == pytest.approx(irw_i, rel=0.05)
+    assert abs(pslr - pslr_i) < 1.0
+
+
+def test_no_nonlinearity_every_method_is_ideal():
+    dz = 2 * 20.0 / C
+    raw = reference_beat(T, F0, K, (), dz)[None].astype(np.complex64)
+    ref = reference_beat(T, F0, K, (), DR)
+    e = estimate_nonlinear_phase(ref, T, F0, K, DR)
+    assert np.max(np.abs(e)) < 1e-3
+    ideal = figures(deskew(raw, FS, K)[0])
+    for out in (correct_deskew(raw, e, FS, K)[0], deskew(correct_resample(raw, e, T, K), FS, K)[0]):
+        assert figures(out)[0] == pytest.approx(ideal[0], rel=1e-3)
+
+
+def test_paper_method_compresses_its_design_target():
+    """Seed 002's method matched to target A (26.9355 m): the spectral width shrinks."""
+    dz = 2 * 26.9355 / C
+    raw = reference_beat(T, F0, K, COEFFS, dz)[None]
+    ref = reference_beat(T, F0, K, COEFFS, DR)
+    before = spectral_width(profile(raw[0])[0], profile(raw[0])[1])
+    out = correct_paper(raw, ref, T, FS, (dz, 0.0), (DR, 0.0))[0]
+    after = spectral_width(profile(out)[0], profile(out)[1])
+    assert before / after > 5
+
+
+def test_bad_references():
+    with pytest.raises(PhaseUnwrapError, match="zero-length"):
+        estimate_nonlinear_phase(np.ones(N, complex), T, F0, K, 0.0)
+    rng = np.random.default_rng(0)
+    noisy = reference_beat(T, F0, K, COEFFS, DR) + 3 * (rng.standard_normal(N) + 1j * rng.standard_normal(N))
+    with pytest.raises(PhaseUnwrapError, match="too weak"):
+        estimate_nonlinear_phase(noisy, T, F0, K, DR)
