@@ -45,9 +45,9 @@ class PhaseHistory:
         return SPEED_OF_LIGHT / float(self.freq[self.freq.size // 2])
 
 
-def phase_history(raw: xr.Dataset) -> PhaseHistory:
-    """Range-compress ``raw`` and extract validated arrays."""
-    ds = range_compress(raw)
+def phase_history(raw: xr.Dataset, chirp_correction: str = "none") -> PhaseHistory:
+    """Range-compress ``raw`` (with an optional nonlinear-chirp correction) and extract arrays."""
+    ds = range_compress(raw, chirp_correction)
     data = np.asarray(ds["signal"].values, dtype=np.complex64)
     freq = np.asarray(ds["frequency"].values, dtype=np.float64)
     pos = np.asarray(ds["position"].values, dtype=np.float64)
@@ -136,9 +136,9 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, algorithm
             scenario = parse_scenario(yaml.safe_load(raw.attrs["scenario"]))
         except Exception:  # noqa: BLE001 - outside data may carry anything
             scenario = None
-    ph = phase_history(raw)
     if processing is None:
         processing = scenario.processing if scenario is not None else None
+    ph = phase_history(raw, processing.chirp_correction if processing is not None else "none")
     alg = algorithm or (processing.algorithm if processing else "bp")
     if alg not in ALGORITHMS:
         raise ScenarioError("processing.algorithm", alg, f"must be one of {ALGORITHMS}")

@@ -51,13 +51,16 @@ def analytic(signal: np.ndarray, sideband: str = "negative") -> np.ndarray:
     return sfft.ifft(spec, axis=1, workers=WORKERS).astype(np.complex64)
 
 
-def range_compress(raw: xr.Dataset) -> xr.Dataset:
+def range_compress(raw: xr.Dataset, chirp_correction: str = "none") -> xr.Dataset:
     """Turn a raw (dechirped) dataset into a frequency-domain phase history.
 
     Parameters
     ----------
     raw : xarray.Dataset
         ``salkit_kind`` "raw" (fast time) or "phase_history" (returned unchanged).
+    chirp_correction : {"none", "resample", "deskew"}
+        Nonlinear-chirp correction from the file's ``reference_signal`` (see
+        :mod:`salkit.focus.chirpcorr`).
 
     Returns
     -------
@@ -76,10 +79,22 @@ def range_compress(raw: xr.Dataset) -> xr.Dataset:
     f0 = SPEED_OF_LIGHT / float(raw.attrs["wavelength"])
     if not int(raw.attrs.get("iq", 1)):
         sig = analytic(sig, str(raw.attrs.get("real_sideband", "negative")))
-    ph = deskew(sig, fs, k)
     t = raw["fast_time"].values
+    if chirp_correction != "none":
+        from ..errors import ScenarioError
+        from .chirpcorr import correct_deskew, correct_resample, estimate_nonlinear_phase
+        if "reference_signal" not in raw:
+            raise ScenarioError("processing.chirp_correction", chirp_correction,
+                                "needs a reference channel in the raw data (receiver.reference_channel)")
+        e = estimate_nonlinear_phase(raw["reference_signal"].values, t, f0, k, float(raw.attrs["reference_delay"]))
+        if chirp_correction == "resample":
+            ph = deskew(correct_resample(sig, e, t, k), fs, k)
+        else:
+            ph = correct_deskew(sig, e, fs, k)
+    else:
+        ph = deskew(sig, fs, k)
     freq = f0 + k * t
-    out = raw.drop_vars(["signal", "fast_time"]).assign(
+    out = raw.drop_vars([v for v in ("signal", "fast_time", "reference_signal") if v in raw.variables]).assign(
         signal=(("slow_time", "frequency"), ph, {"long_name": "phase history, RVP removed"}))
     out = out.assign_coords(frequency=("frequency", freq, {"units": "Hz"}))
     out.attrs = dict(raw.attrs)

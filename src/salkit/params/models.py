@@ -218,6 +218,27 @@ class Noise(_Frozen):
         return self.cnr / (1.0 + self.cnr)
 
 
+class ReferenceChannel(_Frozen):
+    """A reference (delay-line) channel beside the target channel, seed 002: the beat of the
+    reference path d_r against the reference-LO path d_rlo measures the chirp."""
+
+    d_r: float = Field(ge=0, description="reference path length, m")
+    d_rlo: float = Field(ge=0, description="reference-LO path length, m")
+    snr_db: float = Field(default=60.0, description="reference beat SNR per sample, dB")
+
+    @model_validator(mode="after")
+    def _length(self) -> "ReferenceChannel":
+        if self.d_r == self.d_rlo:
+            raise ValueError(f"d_r = d_rlo = {self.d_r} m is a zero-length reference: it cannot measure the chirp")
+        return self
+
+    @property
+    def delay(self) -> float:
+        """Differential delay (d_r - d_rlo)/c, s."""
+        from ..constants import SPEED_OF_LIGHT
+        return (self.d_r - self.d_rlo) / SPEED_OF_LIGHT
+
+
 class Receiver(_Frozen):
     """Dechirp (stretch) receiver."""
 
@@ -229,6 +250,7 @@ class Receiver(_Frozen):
     gate: Optional[float] = Field(default=None, gt=0, description=(
         "ADC window, s; default pulse_width minus the scene's delay spread"))
     noise: Noise = Noise()
+    reference_channel: Optional[ReferenceChannel] = None
 
 
 # --------------------------------------------------------------------------- processing
@@ -260,6 +282,8 @@ class Processing(_Frozen):
     autofocus_kernel: Literal["pd", "lumv", "ev"] = "lumv"
     autofocus_max_iter: int = Field(default=30, ge=1, le=500)
     range_upsample: int = Field(default=8, ge=2, le=64, description="backprojection profile upsampling")
+    chirp_correction: Literal["none", "resample", "deskew"] = Field(
+        default="none", description="nonlinear-chirp correction from the reference channel")
 
 
 # --------------------------------------------------------------------------- atmosphere

@@ -228,6 +228,16 @@ def simulate(scenario: Scenario, progress: ProgressFn = None, noise: bool | None
         sig = sig.real.astype(np.complex64)
     units = "shot_noise" if scenario.receiver.noise.enabled else "reflectivity"
     ds = make_raw_dataset(sig, col, t, scenario, signal_units=units, noise=use_noise)
+    refc = scenario.receiver.reference_channel
+    if refc is not None:
+        from ..focus.chirpcorr import reference_beat
+        w = scenario.waveform
+        ref = reference_beat(t, w.carrier_frequency, w.rate, w.nonlinearity, refc.delay)
+        sd = 10 ** (-refc.snr_db / 20) / math.sqrt(2)
+        ref = ref + sd * (rng.standard_normal(t.size) + 1j * rng.standard_normal(t.size))
+        ds["reference_signal"] = (("fast_time",), ref.astype(np.complex64),
+                                  {"long_name": "dechirped reference-channel beat"})
+        ds.attrs["reference_delay"] = refc.delay
     if not scenario.receiver.iq:
         from ..geometry.sampling import delay_spread
         d0, d1 = delay_spread(scenario, col)
