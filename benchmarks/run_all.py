@@ -5,6 +5,7 @@ same run. Run with ``make bench`` (or ``.venv/bin/python benchmarks/run_all.py``
   vectorised over pixels), on the same phase history and grid; images compared.
 - PFA: time as a multiple of one complex FFT of the output size (scipy.fft, same workers).
 - simulation: scatterer-samples per second of the dechirped-echo simulator.
+- chirp: milliseconds per pulse of 1e5 samples for each nonlinear-chirp correction.
 - pga: PGA seconds per iteration at 256 x 256 and 2048 x 2048 (LUMV and eigenvector kernels).
 - screens: phase screens per second at N = 256, 1024, 4096 against aotools' ft_sh_phase_screen
   (install with ``pip install -e .[bench]``), and both generators' ensemble structure function
@@ -173,13 +174,42 @@ def bench_pga(sizes=(256, 2048)):
     return out
 
 
+def bench_chirp(n=100_000):
+    """Cost of each nonlinear-chirp correction per pulse of n samples (seed 002 chirp)."""
+    from salkit.focus.chirpcorr import (correct_deskew, correct_paper, correct_resample,
+                                        estimate_nonlinear_phase, reference_beat)
+    from salkit.focus.rangecomp import deskew
+    from salkit.systems.chirp import coefficients
+    k, tp = 5.44e14, 7.8e-6
+    fs = n / tp
+    f0 = C / 1.55e-6
+    t = (np.arange(n) - n // 2) / fs
+    co = coefficients(k, tp, 50, 50)
+    raw = reference_beat(t, f0, k, co, 2 * 26.9355 / C)[None].astype(np.complex64)
+    ref = reference_beat(t, f0, k, co, 0.3 / C)
+    out = {"chirp_samples_per_pulse": n}
+    runs = {
+        "none (deskew only)": lambda: deskew(raw, fs, k),
+        "estimate e(t) from reference": lambda: estimate_nonlinear_phase(ref, t, f0, k, 0.3 / C),
+        "resample": lambda: deskew(correct_resample(raw, e, t, k), fs, k),
+        "deskew (Meta)": lambda: correct_deskew(raw, e, fs, k),
+        "paper (eq 7)": lambda: correct_paper(raw, ref, t, fs, (2 * 26.9355 / C, 0.0), (0.8 / C, 0.5 / C)),
+    }
+    e = estimate_nonlinear_phase(ref, t, f0, k, 0.3 / C)
+    for name, fn in runs.items():
+        fn()
+        dt, _ = best_of(fn, 3)
+        out[f"chirp_ms_per_pulse_{name}"] = dt * 1e3
+    return out
+
+
 def main():
     info = {"machine": platform.processor() or platform.machine(), "cpus": os.cpu_count(),
             "python": platform.python_version(), "numpy": np.__version__}
     res = {}
     only = sys.argv[1:]
     for name, fn in (("backprojection", bench_backprojection), ("pfa", bench_pfa), ("simulation", bench_simulation),
-                     ("screens", bench_screens), ("pga", bench_pga)):
+                     ("screens", bench_screens), ("pga", bench_pga), ("chirp", bench_chirp)):
         if only and name not in only:
             continue
         t0 = time.perf_counter()

@@ -95,7 +95,7 @@ def run(scenario: Path = typer.Argument(..., help="scenario YAML"),
     sets = list(set_) + ([f"processing.algorithm={algorithm}"] if algorithm else [])
     sc = load_scenario(scenario, sets)
     if sc.experiment is not None:
-        from ..systems.turbulence import run as run_experiment
+        from ..systems import run_experiment
         with _Bar() as bar:
             m = run_experiment(sc, out_dir, progress=bar)
         out.print(f"report: {Path(out_dir) / 'report.html'}")

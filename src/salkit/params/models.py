@@ -333,6 +333,30 @@ class TurbulenceExperiment(_Frozen):
         return v
 
 
+class ChirpExperiment(_Frozen):
+    """Seed 002's experiment: points A, B, C; Table 1 at (d_r, d_rlo, R1, R2); Tables 2 and 3 sweeps."""
+
+    kind: Literal["nonlinear_chirp"] = "nonlinear_chirp"
+    points: dict[str, float] = Field(default_factory=lambda: {"A": 26.9355, "B": 19.8645, "C": 19.8645},
+                                     description="point -> equivalent distance, m")
+    d_r: float = Field(default=0.8, ge=0, description="reference path, m")
+    d_rlo: float = Field(default=0.5, ge=0, description="reference-LO path, m")
+    r1: float = Field(default=50.0, gt=2, description="quadratic term = 1/R1 of the linear sweep at the edge")
+    r2: float = Field(default=50.0, gt=0, description="cubic term = 1/R2 of the quadratic at the edge")
+    sweep_d_r: tuple[float, ...] = tuple(round(0.5 + 0.1 * i, 1) for i in range(15))
+    sweep_d_rlo: tuple[float, ...] = tuple(round(0.5 + 0.1 * i, 1) for i in range(7))
+    sweep_r1: tuple[float, ...] = (10, 20, 30, 40, 50, 60, 70, 100, 200, 300)
+    sweep_r2: tuple[float, ...] = (10, 20, 30, 40, 50, 70, 100, 150, 200, 300)
+
+    @model_validator(mode="after")
+    def _ref(self) -> "ChirpExperiment":
+        if self.d_r == self.d_rlo:
+            raise ValueError(f"d_r = d_rlo = {self.d_r} m is a zero-length reference")
+        if any(r <= 2 for r in self.sweep_r1):
+            raise ValueError("sweep_r1 values must be > 2 (the sweep must stay monotonic)")
+        return self
+
+
 # --------------------------------------------------------------------------- scenario
 class Scenario(_Frozen):
     """A complete simulation and processing scenario."""
@@ -346,4 +370,4 @@ class Scenario(_Frozen):
     receiver: Receiver
     processing: Processing
     atmosphere: Optional[Atmosphere] = None
-    experiment: Optional[TurbulenceExperiment] = None
+    experiment: Optional[TurbulenceExperiment | ChirpExperiment] = Field(default=None, discriminator="kind")

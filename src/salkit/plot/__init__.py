@@ -218,3 +218,41 @@ def pga_steps_figure(before, steps, out, title="") -> Path:
         ax.set_title(f"{title}: {t}", fontsize=8)
         ax.set_xlabel("azimuth (m)", fontsize=8)
     return _save(fig, out)
+
+
+def sweep_heatmaps(rows, cols, grids, irws, out, labels) -> Path:
+    """Compression ratio (colour, log) and IRW/ideal per method over a two-parameter sweep."""
+    meths = [m for m in grids if m != "none"]
+    fig, axes = plt.subplots(2, len(meths), figsize=(3.4 * len(meths), 6.4), squeeze=False)
+    for j, m in enumerate(meths):
+        for i, (data, t, kw) in enumerate(((grids[m], "compression ratio", {"norm": matplotlib.colors.LogNorm(0.5, 100)}),
+                                          (irws[m] / irws["ideal"], "IRW / ideal", {"vmin": 0.9, "vmax": 3}))):
+            im = axes[i, j].imshow(data, origin="lower", aspect="auto", cmap="viridis", **kw)
+            axes[i, j].set_xticks(range(len(cols)), [f"{c:g}" for c in cols], fontsize=6, rotation=90)
+            axes[i, j].set_yticks(range(len(rows)), [f"{r:g}" for r in rows], fontsize=6)
+            axes[i, j].set_title(f"{m}: {t}", fontsize=8)
+            axes[i, j].set_xlabel(labels[1], fontsize=7)
+            axes[i, j].set_ylabel(labels[0], fontsize=7)
+            fig.colorbar(im, ax=axes[i, j])
+    fig.subplots_adjust(hspace=0.5, wspace=0.5)
+    return _save(fig, out)
+
+
+def range_profiles_figure(ds, out) -> Path:
+    """Range profiles of every point for every method (dB, peak of the ideal = 0)."""
+    pts = list(ds["point"].values)
+    fig, axes = plt.subplots(1, len(pts), figsize=(4.2 * len(pts), 3.6), squeeze=False)
+    r = ds["range"].values
+    for j, p in enumerate(pts):
+        ref = np.nanmax(np.abs(ds["ideal"].sel(point=p).values))
+        centre = r[int(np.nanargmax(np.abs(ds["ideal"].sel(point=p).values)))]
+        keep = np.abs(r - centre) < 1.0
+        for m in ds.data_vars:
+            y = np.abs(ds[m].sel(point=p).values)[keep]
+            axes[0, j].plot(r[keep], 20 * np.log10(np.maximum(y / ref, 1e-5)), label=m, lw=1)
+        axes[0, j].set_ylim(-40, 3)
+        axes[0, j].set_title(f"point {p}", fontsize=9)
+        axes[0, j].set_xlabel("range (m)")
+        axes[0, j].legend(fontsize=7)
+    axes[0, 0].set_ylabel("dB")
+    return _save(fig, out)

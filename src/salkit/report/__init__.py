@@ -70,3 +70,16 @@ def write_turbulence_report(out_dir, scenario, rows, metrics) -> Path:
     html = env.get_template("turbulence.html").render(name=scenario.name, description=scenario.description,
                                                       rows=rows, metrics=metrics, scenario=dump_scenario(scenario))
     return write_text_atomic(Path(out_dir) / "report.html", html)
+
+
+PAPER_TABLE1 = {"A": (4.2846, 1.1685, 3.667), "B": (3.1, 1.558, 1.9375), "C": (3.1, 1.558, 1.9375)}
+
+
+def write_chirp_report(out_dir, scenario, table1, sweeps, metrics) -> Path:
+    """report.html of the seed 002 experiment."""
+    from ..params.scenario import dump_scenario
+    env = Environment(loader=PackageLoader("salkit", "report/templates"), autoescape=select_autoescape(["html"]))
+    html = env.get_template("chirp.html").render(name=scenario.name, description=scenario.description,
+                                                 table1=table1, paper=PAPER_TABLE1, metrics=metrics,
+                                                 scenario=dump_scenario(scenario))
+    return write_text_atomic(Path(out_dir) / "report.html", html)

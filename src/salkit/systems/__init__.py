@@ -1,1 +1,10 @@
 """Seed systems as compositions of the lower layers."""
+
+
+def run_experiment(scenario, out_dir, progress=None) -> dict:
+    """Run the experiment a scenario names (``experiment.kind``)."""
+    if scenario.experiment.kind == "turbulence_pga":
+        from .turbulence import run
+    else:
+        from .chirp import run
+    return run(scenario, out_dir, progress=progress)
