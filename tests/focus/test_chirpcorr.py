@@ -122,3 +122,29 @@ def test_zero_length_reference_rejected():
     from ..conftest import SPOT, merge
     with pytest.raises(ScenarioError, match="zero-length reference"):
         parse_scenario(merge(SPOT, receiver={"adc_rate": 20e6, "reference_channel": {"d_r": 1.0, "d_rlo": 1.0}}))
+
+
+def test_nonlinearity_that_aliases_or_folds_is_rejected():
+    from salkit.errors import SamplingError
+    from salkit.geometry import check_sampling
+    from salkit.params import parse_scenario
+    from ..conftest import SPOT, merge
+    pts = {"points": [{"x": 0.0, "y": 1.0}]}  # 0.8 m slant: beat 4 MHz linear; ADC 20 MHz
+    ok = parse_scenario(merge(SPOT, scene=pts))
+    check_sampling(ok)
+    c2 = 0.3 * 7.5e14 / 5e-6  # instantaneous chirp rate 0.4 k .. 1.6 k: the beat outgrows a 9 MHz ADC
+    with pytest.raises(SamplingError, match="chirp rate up to"):
+        check_sampling(parse_scenario(merge(SPOT, scene=pts, receiver={"adc_rate": 9e6},
+                                            waveform__nonlinearity=[c2])))
+    with pytest.raises(SamplingError, match="non-monotonic"):
+        check_sampling(parse_scenario(merge(SPOT, scene=pts, waveform__nonlinearity=[-3 * 7.5e14 / 5e-6])))
+
+
+def test_paper_method_is_ideal_without_nonlinearity():
+    dz = 2 * 26.9355 / C
+    raw = reference_beat(T, F0, K, (), dz)[None]
+    ref = reference_beat(T, F0, K, (), DR)
+    ideal = figures(deskew(raw.astype(np.complex64), FS, K)[0])
+    out = figures(correct_paper(raw, ref, T, FS, (dz, 0.0), (DR, 0.0))[0])
+    assert out[0] == pytest.approx(ideal[0], rel=0.01)
+    assert abs(out[1] - ideal[1]) < 0.3

@@ -145,13 +145,21 @@ def check_sampling(scenario: Scenario, col: Collection | None = None) -> Samplin
     if 2.0 * max(abs(d0), abs(d1)) >= w.pulse_width:
         raise SamplingError("receiver.reference_range", rx.reference_range,
                             f"scene delays {d0:.4g} .. {d1:.4g} s relative to the reference exceed the pulse")
-    beat_max = w.rate * max(abs(d0), abs(d1))
+    # the beat frequency is the delay times the instantaneous chirp rate k + sum n c_n t^(n-1)
+    tt = np.linspace(-w.pulse_width / 2, w.pulse_width / 2, 201)
+    rate = w.rate + np.zeros_like(tt) + sum((i + 2) * c * tt ** (i + 1) for i, c in enumerate(w.nonlinearity))
+    if np.any(rate <= 0):
+        raise SamplingError("waveform.nonlinearity", list(w.nonlinearity),
+                            f"makes the sweep non-monotonic: the chirp rate falls to {rate.min():.4g} Hz/s "
+                            "within the pulse")
+    rate_max = float(rate.max())
+    beat_max = rate_max * max(abs(d0), abs(d1))
     if rx.iq:
         need = 2.0 * beat_max
         if rx.adc_rate < need * (1 - 1e-9):
             raise SamplingError("receiver.adc_rate", rx.adc_rate,
                                 f"must be >= the beat bandwidth {need:.6g} Hz (I/Q) of the scene's delay "
-                                f"spread {d0:.4g} .. {d1:.4g} s at chirp rate {w.rate:.6g} Hz/s")
+                                f"spread {d0:.4g} .. {d1:.4g} s at chirp rate up to {rate_max:.6g} Hz/s")
     else:
         if d0 < 0 < d1:
             raise SamplingError("receiver.reference_range", rx.reference_range,
