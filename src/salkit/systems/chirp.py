@@ -129,6 +129,8 @@ def run(scenario: Scenario, out_dir, progress=None) -> dict:
              lambda a, b: (coefficients(k, tp, b, a), exp.d_r, exp.d_rlo))):
         grids = {m: np.full((len(rows_), len(cols_)), np.nan) for m in METHODS}
         irws = {m: np.full((len(rows_), len(cols_)), np.nan) for m in METHODS}
+        pslrs = {m: np.full((len(rows_), len(cols_)), np.nan) for m in METHODS}
+        islrs = {m: np.full((len(rows_), len(cols_)), np.nan) for m in METHODS}
         for i, a in enumerate(rows_):
             for j, b in enumerate(cols_):
                 co, d_r, d_rlo = make(a, b)
@@ -141,9 +143,14 @@ def run(scenario: Scenario, out_dir, progress=None) -> dict:
                         fig, _ = analyse(sig[meth], fs, k)
                         grids[meth][i, j] = base["width_hz"] / fig["width_hz"]
                         irws[meth][i, j] = fig["irw_m"]
+                        pslrs[meth][i, j] = fig["pslr_db"]
+                        islrs[meth][i, j] = fig["islr_db"]
         sweeps[label] = (rows_, cols_, grids, irws)
         for meth in METHODS:
             _write_grid(out / f"{label}_{meth}.csv", rows_, cols_, grids[meth])
+            _write_grid(out / f"{label}_{meth}_irw_m.csv", rows_, cols_, irws[meth])
+            _write_grid(out / f"{label}_{meth}_pslr_db.csv", rows_, cols_, pslrs[meth])
+            _write_grid(out / f"{label}_{meth}_islr_db.csv", rows_, cols_, islrs[meth])
         plot.sweep_heatmaps(rows_, cols_, grids, irws, out / f"{label}.png",
                             ("d_rlo (m)", "d_r (m)") if label == "table2" else ("R2", "R1"))
     # success statistics: the paper's method and salkit's, on Table 3
