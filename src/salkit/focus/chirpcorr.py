@@ -41,11 +41,16 @@ def nonlinear_phase(t: np.ndarray, coeffs) -> np.ndarray:
     return e
 
 
-def reference_beat(t: np.ndarray, f0: float, k: float, coeffs, delay: float) -> np.ndarray:
-    """Dechirped reference channel exp(j [Phi(t - D) - Phi(t)]) for delay D (s), unit amplitude."""
+def reference_beat(t: np.ndarray, f0: float, k: float, coeffs, delay: float, table=None) -> np.ndarray:
+    """Dechirped reference channel exp(j [Phi(t - D) - Phi(t)]) for delay D (s), unit amplitude.
+
+    ``table`` = (t_tab, e_tab) adds an arbitrary chirp phase error e(t) (linear interpolation)."""
     lin = -(f0 + k * t) * delay + 0.5 * k * delay ** 2
     lin = TWO_PI * (lin - np.floor(lin))
-    return np.exp(1j * (lin + nonlinear_phase(t - delay, coeffs) - nonlinear_phase(t, coeffs)))
+    ph = lin + nonlinear_phase(t - delay, coeffs) - nonlinear_phase(t, coeffs)
+    if table is not None:
+        ph = ph + np.interp(t - delay, *table) - np.interp(t, *table)
+    return np.exp(1j * ph)
 
 
 def _basis(t: np.ndarray, order: int, delay: float, scale: float) -> np.ndarray:
@@ -55,12 +60,15 @@ def _basis(t: np.ndarray, order: int, delay: float, scale: float) -> np.ndarray:
 
 
 def estimate_nonlinear_phase(ref: np.ndarray, t: np.ndarray, f0: float, k: float, delay: float,
-                             order: int = 8, min_snr_check: float = 0.25) -> np.ndarray:
+                             order: int = 8, min_snr_check: float = 0.25, method: str = "poly",
+                             bandwidth: float = 10e6) -> np.ndarray:
     """Estimate e(t) (rad, on ``t``) from a reference beat at known delay ``delay``.
 
     The unwrapped reference phase minus its linear-chirp model is e(t - D) - e(t); e is fitted as
     sum_n a_n (t / T)^n, n = 2 .. ``order`` (constant and linear terms are unobservable and
-    irrelevant), by least squares on ((t - D)^n - t^n).
+    irrelevant), by least squares on ((t - D)^n - t^n). ``method="fourier"`` then also solves the
+    residual e(t - D) - e(t) = r(t) in the Fourier domain (regularised below one cycle per pulse),
+    for arbitrary (measured or random) chirp errors, keeping frequencies up to ``bandwidth`` (Hz).
 
     Raises
     ------
@@ -84,11 +92,22 @@ def estimate_nonlinear_phase(ref: np.ndarray, t: np.ndarray, f0: float, k: float
     A = np.c_[A, np.ones_like(t)]
     coef, *_ = np.linalg.lstsq(A, z, rcond=None)
     resid = z - A @ coef
-    if np.sqrt(np.mean(resid ** 2)) > min_snr_check:
+    if method == "poly" and np.sqrt(np.mean(resid ** 2)) > min_snr_check:
         raise PhaseUnwrapError(f"reference phase fit residual {np.sqrt(np.mean(resid ** 2)):.3g} rad RMS: "
                                "the reference is too weak (or the delay too short) to estimate the chirp")
     u = t / scale
-    return sum(c * u ** n for c, n in zip(coef[:-1], range(2, order + 1)))
+    e = sum(c * u ** n for c, n in zip(coef[:-1], range(2, order + 1)))
+    if method == "fourier":  # an arbitrary error: solve e(t - D) - e(t) = r(t) for the residual
+        n = t.size
+        f = sfft.fftfreq(2 * n, t[1] - t[0])
+        H = np.exp(-1j * TWO_PI * f * delay) - 1.0
+        eps = (TWO_PI * delay / (t[-1] - t[0])) ** 2  # regularise below one cycle per pulse
+        R = sfft.fft(np.r_[resid, resid[::-1]])  # even extension: no jump at the ends
+        # below the first zero of H (f = 1/D) and within the error's assumed bandwidth
+        keep = (np.abs(f) < 0.5 / abs(delay)) & (np.abs(f) <= bandwidth)
+        er = np.real(sfft.ifft(np.where(keep, R * np.conj(H) / (np.abs(H) ** 2 + eps), 0.0)))[:n]
+        e = e + er - np.polyval(np.polyfit(t, er, 1), t)
+    return e
 
 
 def correct_deskew(signal: np.ndarray, e: np.ndarray, adc_rate: float, k: float) -> np.ndarray:

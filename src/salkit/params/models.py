@@ -19,6 +19,43 @@ class _Frozen(BaseModel):
 
 
 # --------------------------------------------------------------------------- waveform
+class ChirpPhaseError(_Frozen):
+    """An arbitrary phase error e(t) of the transmitted chirp (rad): a seeded random band-limited
+    process, or a measured one from a file (.npy of shape (2, M): t in s and e in rad)."""
+
+    kind: Literal["random", "file"] = "random"
+    rms: float = Field(default=10.0, gt=0, description="random: RMS of e(t), rad")
+    bandwidth: float = Field(default=1e6, gt=0, description="random: bandwidth of e(t), Hz")
+    seed: int = Field(default=0, ge=0)
+    file: Optional[str] = None
+
+    @model_validator(mode="after")
+    def _file(self) -> "ChirpPhaseError":
+        if self.kind == "file" and not self.file:
+            raise ValueError("kind=file needs a file")
+        return self
+
+    def table(self, pulse_width: float, n: int = 8192):
+        """(t, e) samples of the error over the pulse plus margins, s and rad."""
+        import numpy as np
+        if self.kind == "file":
+            from pathlib import Path
+            p = Path(self.file)
+            if not p.is_file():
+                raise ValueError(f"chirp phase-error file {self.file} does not exist")
+            data = np.load(p)
+            if data.ndim != 2 or data.shape[0] != 2 or not np.all(np.isfinite(data)):
+                raise ValueError(f"{self.file}: must hold finite (2, M) samples: t (s) and e (rad)")
+            return data[0].astype(float), data[1].astype(float)
+        t = np.linspace(-0.6 * pulse_width, 0.6 * pulse_width, n)
+        rng = np.random.default_rng(self.seed)
+        white = rng.standard_normal(4 * n)
+        f = np.fft.fftfreq(4 * n, t[1] - t[0])
+        e = np.real(np.fft.ifft(np.fft.fft(white) * (np.abs(f) <= self.bandwidth)))[:n]
+        e -= np.polyval(np.polyfit(t, e, 1), t)  # constant and linear parts are not phase errors
+        return t, self.rms * e / e.std()
+
+
 class Waveform(_Frozen):
     """Linear-FM (chirp) laser waveform, optionally with a polynomial frequency error.
 
@@ -33,6 +70,7 @@ class Waveform(_Frozen):
     chirp_rate: Optional[float] = Field(default=None, description="Hz/s; defaults to bandwidth/pulse_width")
     nonlinearity: tuple[float, ...] = Field(
         default=(), description="coefficients of t**2, t**3, ... in the frequency sweep, Hz/s**n")
+    phase_error: Optional[ChirpPhaseError] = Field(default=None, description="arbitrary chirp phase error")
 
     @model_validator(mode="after")
     def _consistent(self) -> "Waveform":
@@ -65,8 +103,8 @@ class Waveform(_Frozen):
 
     @property
     def is_linear(self) -> bool:
-        """True when the chirp has no nonlinearity."""
-        return not any(self.nonlinearity)
+        """True when the chirp has no nonlinearity (polynomial or arbitrary)."""
+        return not any(self.nonlinearity) and self.phase_error is None
 
 
 # --------------------------------------------------------------------------- platform

@@ -69,6 +69,15 @@ def echo_signal(collection: Collection, scatter_pos: np.ndarray, scatter_amp: np
     dt = float(fast_time[1] - fast_time[0]) if N > 1 else 1.0
     exact = (not w.is_linear) or p.intra_pulse_motion
     coeffs = np.asarray(w.nonlinearity, dtype=np.float64)
+    if w.phase_error is not None:
+        try:
+            et, ev = w.phase_error.table(w.pulse_width)
+        except ValueError as err:
+            from ..errors import ScenarioError
+            raise ScenarioError("waveform.phase_error", w.phase_error.file or w.phase_error.kind, str(err)) from None
+        etab = (float(et[0]), float(et[1] - et[0]), np.ascontiguousarray(ev, dtype=np.float64))
+    else:
+        etab = (0.0, 1.0, np.zeros(0))
     for a in range(0, P, chunk):
         b = min(P, a + chunk)
         re = np.zeros((b - a, N), np.float32)
@@ -79,7 +88,7 @@ def echo_signal(collection: Collection, scatter_pos: np.ndarray, scatter_amp: np
                            np.ascontiguousarray(collection.reference_range[a:b]),
                            np.ascontiguousarray(collection.boresight[a:b]), pos, are, aim, t0, dt,
                            w.carrier_frequency, w.rate, w.pulse_width, coeffs, p.intra_pulse_motion,
-                           table, dsin, re, im, *pargs)
+                           table, dsin, re, im, *pargs, *etab)
         else:
             simulate_linear(args_geo[0], np.ascontiguousarray(collection.reference_range[a:b]),
                             np.ascontiguousarray(collection.boresight[a:b]), pos, are, aim, t0, dt,

@@ -127,13 +127,31 @@ def _poly_diff(t, d, m):
     return -d * acc
 
 
+@njit(cache=True, inline="always")
+def _etab(x, e_t0, e_dt, e_tab):
+    """Linear interpolation of the tabulated chirp phase error (rad) at time x (s)."""
+    if e_tab.shape[0] == 0:
+        return 0.0
+    u = (x - e_t0) / e_dt
+    if u <= 0.0:
+        return e_tab[0]
+    m = e_tab.shape[0] - 1
+    if u >= m:
+        return e_tab[m]
+    i = int(u)
+    f = u - i
+    return e_tab[i] * (1.0 - f) + e_tab[i + 1] * f
+
+
 @njit(parallel=True, cache=True, fastmath=False)
 def simulate_exact(pos, vel, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp, coeffs, intra,
-                   table, dsin, out_re, out_im, scr, scr_z, scr_org, scr_dx, u0, ax_a, ax_b):
+                   table, dsin, out_re, out_im, scr, scr_z, scr_org, scr_dx, u0, ax_a, ax_b,
+                   e_t0, e_dt, e_tab):
     """Per-sample evaluation: polynomial chirp nonlinearity and optional intra-pulse motion.
 
-    ``coeffs[m]`` multiplies t**(m+2) in the frequency sweep (Hz/s**(m+2)); with intra-pulse motion
-    the antenna is at pos + vel * t during sample t.
+    ``coeffs[m]`` multiplies t**(m+2) in the frequency sweep (Hz/s**(m+2)); ``e_tab`` (spacing
+    ``e_dt`` from ``e_t0``) tabulates an arbitrary chirp phase error e(t), rad (empty: none); with
+    intra-pulse motion the antenna is at pos + vel * t during sample t.
     """
     P = pos.shape[0]
     S = scat.shape[0]
@@ -172,7 +190,7 @@ def simulate_exact(pos, vel, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp,
                 for m in range(M):
                     cyc += coeffs[m] / (m + 3) * _poly_diff(t, d, m + 3)
                 cyc -= math.floor(cyc)
-                ph = _TWO_PI * cyc
+                ph = _TWO_PI * cyc + _etab(t - d, e_t0, e_dt, e_tab) - _etab(t, e_t0, e_dt, e_tab)
                 cph, sph = math.cos(ph), math.sin(ph)
                 out_re[p, n] += np.float32(ar * cph - ai * sph)
                 out_im[p, n] += np.float32(ar * sph + ai * cph)
