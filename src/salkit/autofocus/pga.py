@@ -30,6 +30,17 @@ class AutofocusResult:
     best_iteration: int = 0
 
 
+def _spectrum_and_band(image: np.ndarray, band):
+    """Azimuth spectrum of ``image`` and the bins carrying signal (above 1e-3 of the peak of the
+    range-summed power) unless ``band`` is given."""
+    img = np.asarray(image, dtype=np.complex128)
+    spec = sfft.fft(img, axis=0, workers=-1)
+    if band is None:
+        p = np.sum(np.abs(spec) ** 2, axis=1)
+        band = p > 1e-3 * p.max()
+    return img, spec, band
+
+
 def _detrend(phi: np.ndarray, weight: np.ndarray | None = None) -> np.ndarray:
     """Remove the (weighted) least-squares constant and linear terms."""
     n = phi.size
@@ -115,12 +126,8 @@ def pga(image: np.ndarray, kernel: str = "lumv", max_iter: int = 30, tol: float 
     AutofocusResult
         The lowest-entropy iterate (iteration 0 is the input), so it never ends worse.
     """
-    img = np.asarray(image, dtype=np.complex128)
+    img, spec, band = _spectrum_and_band(image, band)
     n = img.shape[0]
-    spec = sfft.fft(img, axis=0, workers=-1)
-    if band is None:
-        p = np.sum(np.abs(spec) ** 2, axis=1)
-        band = p > 1e-3 * p.max()
     total = np.zeros(n)
     e0 = entropy(img)
     history = [{"iteration": 0, "phase_rms": 0.0, "entropy": e0, "window": n}]
@@ -173,12 +180,8 @@ def min_entropy(image: np.ndarray, order: int = 24, band: np.ndarray | None = No
     from numpy.polynomial import legendre
     from scipy.optimize import minimize
 
-    img0 = np.asarray(image, dtype=np.complex128)
+    img0, G, band = _spectrum_and_band(image, band)
     n = img0.shape[0]
-    G = sfft.fft(img0, axis=0, workers=-1)
-    if band is None:
-        p = np.sum(np.abs(G) ** 2, axis=1)
-        band = p > 1e-3 * p.max()
     bc = sfft.fftshift(band)
     sel = np.flatnonzero(bc)
     t = np.linspace(-1, 1, sel.size)
