@@ -155,7 +155,7 @@ def turbulent_path(scenario: Scenario, col: Collection):
     Raises ScenarioError when an explicit ``atmosphere.screen_n`` is smaller than the area the rays
     cross on some layer (the screen would be clamped at its edge).
     """
-    from ..atmosphere.path import build_path
+    from ..atmosphere.path import _crossings, build_path
     from ..errors import ScenarioError
     from ..geometry.sampling import _scene_probe_points
 
@@ -165,7 +165,6 @@ def turbulent_path(scenario: Scenario, col: Collection):
     probe = _scene_probe_points(scenario)
     # extent the rays cover on the layers: scene extent near the target, aperture near the platform
     ends = np.stack([col.positions[0], col.positions[-1], col.positions[col.n_pulses // 2]])
-    from ..atmosphere.path import _crossings
     a = col.track - np.dot(col.track, u0) * u0
     a /= np.linalg.norm(a)
     b = np.cross(u0, a)
