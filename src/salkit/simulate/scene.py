@@ -64,7 +64,8 @@ def extended_scatterers(ext: ExtendedScene, cell_area: float, rng: np.random.Gen
     of reflectivity T has mean image power T^2 (speckle) or image amplitude T (no speckle), the
     same as a point target of amplitude T.
 
-    Without speckle, ``smooth_phase(pos) -> rad`` gives each scatterer the phase that makes it add
+    With speckle, scatterers sit at random positions within their cells (a diffuse surface, not a
+    lattice). Without speckle, ``smooth_phase(pos) -> rad`` gives each scatterer the phase that makes it add
     in phase in the focused image (the usual speckle-free idealisation; a surface of truly constant
     reflectivity phase would be a specular mirror and return almost nothing).
     """
@@ -89,6 +90,9 @@ def extended_scatterers(ext: ExtendedScene, cell_area: float, rng: np.random.Gen
     t = refl[keep]
     d2 = ext.spacing ** 2
     if ext.speckle:
+        # random positions within each cell: a lattice has a periodic spectrum (period 2 pi/spacing),
+        # so views whose wavenumbers differ by that period would see correlated speckle
+        pos[:, :2] += rng.uniform(-0.5, 0.5, (pos.shape[0], 2)) * ext.spacing
         sigma = t * math.sqrt(d2 / cell_area)
         amp = sigma * (rng.standard_normal(t.size) + 1j * rng.standard_normal(t.size)) / math.sqrt(2.0)
     else:

@@ -1,0 +1,83 @@
+"""Space-borne SAL of a GEO target (seed 001): near-closest-approach geometry of two coplanar
+circular orbits (SAL at radius R1 inside the target's R2, same direction), in the inertial frame.
+
+The seed treats the relative motion near closest approach as a straight line at speed
+V = sqrt(GM) (1/sqrt(R1) - 1/sqrt(R2)) at the closest distance L0 = R2 - R1;
+:func:`relative_trajectory` gives the true relative positions so the difference can be reported.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..errors import ScenarioError
+
+GM_EARTH = 3.986004418e14  #: m^3 / s^2
+
+
+def relative_speed(r1: float, r2: float) -> float:
+    """V = sqrt(GM) (1/sqrt(R1) - 1/sqrt(R2)), m/s: the difference of the two orbital speeds."""
+    if not (0 < r1 < r2):
+        raise ScenarioError("orbit", (r1, r2), "needs 0 < R1 < R2 (the SAL inside the target's orbit)")
+    return math.sqrt(GM_EARTH) * (1 / math.sqrt(r1) - 1 / math.sqrt(r2))
+
+
+def collection_span(closest: float, squint_max_deg: float) -> float:
+    """D = 2 L0 tan(theta_max), m, for squints from -theta_max to +theta_max."""
+    if not (0 < squint_max_deg < 90):
+        raise ScenarioError("squint_max_deg", squint_max_deg, "must be in (0, 90) degrees: the geometry "
+                            "cannot reach 90 degrees of squint from a straight pass")
+    return 2 * closest * math.tan(math.radians(squint_max_deg))
+
+
+def subaperture_length(wavelength: float, closest: float, resolution: float) -> float:
+    """L_sa = lambda L0 / (2 rho), m (zero squint)."""
+    return wavelength * closest / (2 * resolution)
+
+
+def n_subimages(span: float, sub_length: float) -> int:
+    """P = floor(D / L_sa): sub-apertures in the collection."""
+    if sub_length > span:
+        raise ScenarioError("subaperture_length", sub_length, f"is longer than the collection span {span:.4g} m")
+    return int(math.floor(span / sub_length))
+
+
+def resolution_vs_squint(wavelength: float, closest: float, sub_length: float, squint_deg):
+    """Seed 001 eq 12: along-track resolution rho_x = lambda L0 / (2 L_sa cos^3 theta), m."""
+    c = np.cos(np.radians(squint_deg))
+    return wavelength * closest / (2 * sub_length * c ** 3)
+
+
+def max_squint_for(factor: float = 1.1) -> float:
+    """Largest squint (deg) keeping the along-track resolution within ``factor`` of its best:
+    cos^3 theta = 1 / factor."""
+    return math.degrees(math.acos(factor ** (-1 / 3)))
+
+
+def relative_trajectory(r1: float, r2: float, t: np.ndarray) -> np.ndarray:
+    """SAL position relative to the target (inertial frame), (len(t), 2) m, t = 0 at closest approach.
+
+    x: along the target's velocity at t = 0; z: radial (the SAL is at z = -(R2 - R1) at t = 0).
+    """
+    w1, w2 = math.sqrt(GM_EARTH / r1 ** 3), math.sqrt(GM_EARTH / r2 ** 3)
+    t = np.asarray(t, dtype=np.float64)
+    sal = r1 * np.stack([np.sin(w1 * t), np.cos(w1 * t)], axis=1)
+    tgt = r2 * np.stack([np.sin(w2 * t), np.cos(w2 * t)], axis=1)
+    return sal - tgt
+
+
+def straight_line_error(r1: float, r2: float, squint_max_deg: float, n: int = 2001) -> dict:
+    """How far the true relative motion departs from the straight line over the collection.
+
+    Returns the largest range difference (m) over the whole collection and over one sub-aperture
+    centred at closest approach, for the seed's sub-aperture (passed in via ``sub_length``)."""
+    V = relative_speed(r1, r2)
+    L0 = r2 - r1
+    T = collection_span(L0, squint_max_deg) / (2 * V)
+    t = np.linspace(-T, T, n)
+    rel = relative_trajectory(r1, r2, t)
+    true_range = np.linalg.norm(rel, axis=1)
+    line_range = np.hypot(L0, V * t)
+    return {"collection_time_s": 2 * T, "max_range_difference_m": float(np.max(np.abs(true_range - line_range))),
+            "range_difference_at_edges_m": float(true_range[-1] - line_range[-1])}
