@@ -63,3 +63,90 @@ def stack_snr(stacked_intensity: np.ndarray, clean_intensity: np.ndarray, mask: 
 
 
 del math
+
+
+def _subimage_task(base_dict: dict, index: int, count: int, squint_max_deg: float, noise: bool):
+    """Dask task: the intensity of sub-image ``index`` (top level, so workers can import it)."""
+    from ..params.scenario import parse_scenario
+    base = parse_scenario(base_dict)
+    img = subimage(base, squint_of(index, count, squint_max_deg), index, noise)
+    return index, (np.abs(img) ** 2).astype(np.float32)
+
+
+def run_stack(base: Scenario, count: int, squint_max_deg: float, store, scheduler: str | None = None,
+              workers: int = 2, noise: bool = True, progress=None, stop_after: int | None = None):
+    """Stack ``count`` sub-images as Dask tasks, checkpointed in a Zarr store.
+
+    Parameters
+    ----------
+    base : Scenario
+    count : int
+        Sub-apertures over +-``squint_max_deg``.
+    store : str or Path
+        Zarr store: ``intensity`` (count, nx, ny) float32, one chunk per sub-image, and ``done``
+        (count,) flags written after each chunk. A run that is killed resumes from the flags and
+        recomputes nothing already stored.
+    scheduler : str, optional
+        Address of an existing Dask scheduler; default: a local cluster of ``workers`` processes.
+    progress : callable, optional
+        ``progress(done, total)``.
+    stop_after : int, optional
+        Stop (raise KeyboardInterrupt) after this many new sub-images: simulates a killed run.
+
+    Returns
+    -------
+    (stack, computed)
+        The mean intensity over all stored sub-images and how many this call computed.
+    """
+    import zarr
+    from dask.distributed import Client, LocalCluster, as_completed
+
+    from ..errors import SalkitError
+    from ..params.scenario import dump_scenario
+
+    cluster = None
+    try:  # connect first: an unreachable scheduler writes nothing
+        if scheduler:
+            client = Client(scheduler, timeout="5s")
+        else:
+            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                   dashboard_address=None)
+            client = Client(cluster)
+    except (OSError, TimeoutError) as err:
+        raise SalkitError(f"--scheduler {scheduler}: no Dask scheduler answers there ({type(err).__name__}); "
+                          "nothing was written") from None
+    try:
+        g = base.processing.grid
+        root = zarr.open_group(str(store), mode="a")
+        text = dump_scenario(base)
+        if "intensity" in root:
+            if root.attrs.get("scenario") != text or root.attrs.get("count") != count:
+                raise SalkitError(f"{store}: the checkpoint belongs to another run (scenario or count differs)")
+        else:
+            root.create_array("intensity", shape=(count, g.nx, g.ny), chunks=(1, g.nx, g.ny), dtype="float32")
+            root.create_array("done", shape=(count,), chunks=(count,), dtype="bool", fill_value=False)
+            root.attrs.update({"scenario": text, "count": count, "squint_max_deg": squint_max_deg})
+        done = np.asarray(root["done"][:])
+        todo = [i for i in range(count) if not done[i]]
+        computed = 0
+        bd = base.model_dump(mode="json")
+        futures = client.map(_subimage_task, [bd] * len(todo), todo, [count] * len(todo),
+                             [squint_max_deg] * len(todo), [noise] * len(todo), pure=False)
+        for fut in as_completed(futures):
+            i, inten = fut.result()
+            root["intensity"][i] = inten
+            done[i] = True
+            root["done"][:] = done
+            computed += 1
+            if progress:
+                progress(int(done.sum()), count)
+            if stop_after is not None and computed >= stop_after:
+                for f in futures:
+                    f.cancel()
+                raise KeyboardInterrupt("stopped on request")
+        stack_ = np.asarray(root["intensity"][:]).mean(axis=0)
+        return stack_, computed
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
