@@ -88,11 +88,15 @@ def _grid(nx, ny, dx, dy, plane):
 def run(scenario: Path = typer.Argument(..., help="scenario YAML"),
         out_dir: Path = typer.Option(..., "--out", help="output folder"),
         set_: List[str] = typer.Option([], "--set", help="override a field: key.path=value"),
-        algorithm: Optional[str] = typer.Option(None, help="override processing.algorithm")):
+        algorithm: Optional[str] = typer.Option(None, help="override processing.algorithm"),
+        workers: Optional[int] = typer.Option(None, help="Dask workers of a local cluster (stacking runs)"),
+        scheduler: Optional[str] = typer.Option(None, help="address of an existing Dask scheduler")):
     """Simulate, focus, measure, draw and report one scenario."""
     from ..params import load_scenario
     from ..systems.airborne import run as run_system
     sets = list(set_) + ([f"processing.algorithm={algorithm}"] if algorithm else [])
+    sets += [f"experiment.stack.workers={workers}"] if workers else []
+    sets += [f"experiment.stack.scheduler={scheduler}"] if scheduler else []
     sc = load_scenario(scenario, sets)
     if sc.experiment is not None:
         from ..systems import run_experiment

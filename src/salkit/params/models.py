@@ -186,7 +186,7 @@ class ExtendedScene(_Frozen):
     """Distributed scene sampled by scatterers on a regular ground grid."""
 
     kind: Literal["pattern", "image"] = "pattern"
-    pattern: Literal["letter_I", "bars", "checker", "disk", "uniform"] = "letter_I"
+    pattern: Literal["letter_I", "bars", "checker", "disk", "uniform", "satellite"] = "letter_I"
     file: Optional[str] = Field(default=None, description="image file (PNG/NPY) for kind=image")
     extent: tuple[float, float] = Field(description="size along x (azimuth) and y (ground range), m")
     spacing: float = Field(gt=0, description="scatterer spacing, m (below the resolution cell)")
@@ -395,6 +395,31 @@ class ChirpExperiment(_Frozen):
         return self
 
 
+class StackSettings(_Frozen):
+    """Sub-image stacking at scale (seed 001)."""
+
+    max_subimages: Optional[int] = Field(default=None, ge=1, description="the N sub-apertures nearest closest approach")
+    workers: int = Field(default=2, ge=1, le=64)
+    scheduler: Optional[str] = Field(default=None, description="address of an existing Dask scheduler")
+
+
+class SpaceborneExperiment(_Frozen):
+    """Seed 001: a GEO target seen from a lower coplanar circular orbit near closest approach."""
+
+    kind: Literal["spaceborne_geo"] = "spaceborne_geo"
+    r1: float = Field(default=41_978e3, gt=0, description="SAL orbit radius, m")
+    r2: float = Field(default=42_178e3, gt=0, description="target orbit radius, m")
+    squint_max_deg: float = Field(default=5.0, gt=0, lt=90)
+    resolution: float = Field(default=0.05, gt=0, description="along-track resolution at zero squint, m")
+    stack: StackSettings = StackSettings()
+
+    @model_validator(mode="after")
+    def _orbits(self) -> "SpaceborneExperiment":
+        if not self.r1 < self.r2:
+            raise ValueError(f"r1 = {self.r1} m must be below r2 = {self.r2} m (the SAL inside the target's orbit)")
+        return self
+
+
 # --------------------------------------------------------------------------- scenario
 class Scenario(_Frozen):
     """A complete simulation and processing scenario."""
@@ -408,4 +433,5 @@ class Scenario(_Frozen):
     receiver: Receiver
     processing: Processing
     atmosphere: Optional[Atmosphere] = None
-    experiment: Optional[TurbulenceExperiment | ChirpExperiment] = Field(default=None, discriminator="kind")
+    experiment: Optional[TurbulenceExperiment | ChirpExperiment | SpaceborneExperiment] = Field(
+        default=None, discriminator="kind")

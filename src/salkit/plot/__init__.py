@@ -256,3 +256,40 @@ def range_profiles_figure(ds, out) -> Path:
         axes[0, j].legend(fontsize=7)
     axes[0, 0].set_ylabel("dB")
     return _save(fig, out)
+
+
+def spaceborne_figures(truth, fig7, single, stack, counts, curve, snr1_theory, az, rg, out) -> None:
+    """Seed 001 figs 7 and 8 and the stack SNR against sqrt(P)."""
+    out = Path(out)
+    ext = [az[0], az[-1], rg[0], rg[-1]]
+    qs = list(fig7)
+    fig, axes = plt.subplots(2, len(qs) + 1, figsize=(3.3 * (len(qs) + 1), 6.4))
+    axes[0, 0].imshow(truth.T, origin="lower", extent=ext, cmap="gray")
+    axes[0, 0].set_title("target (truth)", fontsize=9)
+    axes[1, 0].axis("off")
+    for j, q in enumerate(qs):
+        for i, (img, t) in enumerate(zip(fig7[q], ("before geometric correction", "after (common frame)"))):
+            a = img / max(img.max(), 1e-30)
+            axes[i, j + 1].imshow(20 * np.log10(np.maximum(a, 1e-3)).T, origin="lower", extent=ext, cmap="gray",
+                                  vmin=-30, vmax=0)
+            axes[i, j + 1].set_title(f"squint {q:+.1f} deg, {t}", fontsize=8)
+    for ax in axes.ravel():
+        ax.tick_params(labelsize=7)
+    _save(fig, out / "subimages.png")
+    fig, axes = plt.subplots(1, 2, figsize=(9, 4.2))
+    for ax, img, t in ((axes[0], single, "one photon-limited sub-image"), (axes[1], stack, f"stack of {counts[-1]}")):
+        a = img / max(np.percentile(img, 99.5), 1e-30)
+        ax.imshow(np.minimum(a, 1).T, origin="lower", extent=ext, cmap="gray")
+        ax.set_title(t, fontsize=9)
+        ax.set_xlabel("along track (m)")
+    axes[0].set_ylabel("range (m)")
+    _save(fig, out / "stack.png")
+    fig, ax = plt.subplots(figsize=(5.6, 4))
+    c = np.asarray(counts, float)
+    ax.loglog(c, curve, "o-", label="measured")
+    ax.loglog(c, snr1_theory * np.sqrt(c), "k--", label="sqrt(P) x eq 15")
+    ax.set_xlabel("sub-images stacked, P")
+    ax.set_ylabel("image SNR")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3, which="both")
+    _save(fig, out / "snr_vs_p.png")

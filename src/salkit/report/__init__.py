@@ -122,3 +122,12 @@ def write_chirp_report(out_dir, scenario, table1, sweeps, metrics) -> Path:
                                                  cells=table3_cells(sweeps["table3"]),
                                                  scenario=dump_scenario(scenario))
     return write_text_atomic(Path(out_dir) / "report.html", html)
+
+
+def write_spaceborne_report(out_dir, scenario, metrics) -> Path:
+    """report.html of the seed 001 experiment."""
+    from ..params.scenario import dump_scenario
+    env = Environment(loader=PackageLoader("salkit", "report/templates"), autoescape=select_autoescape(["html"]))
+    html = env.get_template("spaceborne.html").render(name=scenario.name, description=scenario.description,
+                                                      metrics=metrics, scenario=dump_scenario(scenario))
+    return write_text_atomic(Path(out_dir) / "report.html", html)

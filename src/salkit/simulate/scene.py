@@ -28,6 +28,12 @@ def pattern_mask(pattern: str, u: np.ndarray, v: np.ndarray) -> np.ndarray:
             inside = (v >= lo) & (v < hi) & (np.abs(u) < 0.4)
             out[inside & (np.mod(u + 0.5, period) < period / 2)] = 1.0
         return out
+    if pattern == "satellite":  # body, two solar-panel wings on booms, a dish antenna
+        body = (np.abs(u) <= 0.10) & (np.abs(v) <= 0.14)
+        wings = (np.abs(u) >= 0.16) & (np.abs(u) <= 0.48) & (np.abs(v) <= 0.09)
+        booms = (np.abs(u) < 0.16) & (np.abs(v) <= 0.012)
+        dish = np.hypot(u, v - 0.27) <= 0.09
+        return (body | wings | booms | dish).astype(float)
     if pattern == "checker":
         return ((np.floor((u + 0.5) * 6) + np.floor((v + 0.5) * 6)) % 2 == 0).astype(float)
     if pattern == "disk":

@@ -3,8 +3,11 @@
 
 def run_experiment(scenario, out_dir, progress=None) -> dict:
     """Run the experiment a scenario names (``experiment.kind``)."""
-    if scenario.experiment.kind == "turbulence_pga":
+    kind = scenario.experiment.kind
+    if kind == "turbulence_pga":
         from .turbulence import run
+    elif kind == "spaceborne_geo":
+        from .spaceborne import run
     else:
         from .chirp import run
     return run(scenario, out_dir, progress=progress)

@@ -10,6 +10,7 @@ its speckle decorrelates between sub-apertures through the change of aspect alon
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -62,26 +63,25 @@ def stack_snr(stacked_intensity: np.ndarray, clean_intensity: np.ndarray, mask: 
     return float(clean_intensity[mask].mean() / stacked_intensity[mask].std())
 
 
-del math
 
 
-def _subimage_task(base_dict: dict, index: int, count: int, squint_max_deg: float, noise: bool):
+def _subimage_task(base_dict: dict, index: int, squint_deg: float, noise: bool):
     """Dask task: the intensity of sub-image ``index`` (top level, so workers can import it)."""
     from ..params.scenario import parse_scenario
     base = parse_scenario(base_dict)
-    img = subimage(base, squint_of(index, count, squint_max_deg), index, noise)
+    img = subimage(base, squint_deg, index, noise)
     return index, (np.abs(img) ** 2).astype(np.float32)
 
 
-def run_stack(base: Scenario, count: int, squint_max_deg: float, store, scheduler: str | None = None,
+def run_stack(base: Scenario, squints, store, scheduler: str | None = None,
               workers: int = 2, noise: bool = True, progress=None, stop_after: int | None = None):
     """Stack ``count`` sub-images as Dask tasks, checkpointed in a Zarr store.
 
     Parameters
     ----------
     base : Scenario
-    count : int
-        Sub-apertures over +-``squint_max_deg``.
+    squints : sequence of float
+        Squint (deg) of each sub-aperture.
     store : str or Path
         Zarr store: ``intensity`` (count, nx, ny) float32, one chunk per sub-image, and ``done``
         (count,) flags written after each chunk. A run that is killed resumes from the flags and
@@ -116,22 +116,24 @@ def run_stack(base: Scenario, count: int, squint_max_deg: float, store, schedule
         raise SalkitError(f"--scheduler {scheduler}: no Dask scheduler answers there ({type(err).__name__}); "
                           "nothing was written") from None
     try:
+        squints = [float(q) for q in squints]
+        count = len(squints)
         g = base.processing.grid
         root = zarr.open_group(str(store), mode="a")
         text = dump_scenario(base)
         if "intensity" in root:
-            if root.attrs.get("scenario") != text or root.attrs.get("count") != count:
+            if root.attrs.get("scenario") != text or root.attrs.get("squints") != squints:
                 raise SalkitError(f"{store}: the checkpoint belongs to another run (scenario or count differs)")
         else:
             root.create_array("intensity", shape=(count, g.nx, g.ny), chunks=(1, g.nx, g.ny), dtype="float32")
             root.create_array("done", shape=(count,), chunks=(count,), dtype="bool", fill_value=False)
-            root.attrs.update({"scenario": text, "count": count, "squint_max_deg": squint_max_deg})
+            root.attrs.update({"scenario": text, "count": count, "squints": squints})
         done = np.asarray(root["done"][:])
         todo = [i for i in range(count) if not done[i]]
         computed = 0
         bd = base.model_dump(mode="json")
-        futures = client.map(_subimage_task, [bd] * len(todo), todo, [count] * len(todo),
-                             [squint_max_deg] * len(todo), [noise] * len(todo), pure=False)
+        futures = client.map(_subimage_task, [bd] * len(todo), todo, [squints[i] for i in todo],
+                             [noise] * len(todo), pure=False)
         for fut in as_completed(futures):
             i, inten = fut.result()
             root["intensity"][i] = inten
@@ -150,3 +152,129 @@ def run_stack(base: Scenario, count: int, squint_max_deg: float, store, schedule
         client.close()
         if cluster is not None:
             cluster.close()
+
+
+def geo_base(scenario: Scenario) -> Scenario:
+    """The sub-aperture scenario implied by the experiment: straight-line pass at V and L0, one
+    sub-aperture L_sa long, spotlight on the target, no experiment block."""
+    from ..geometry.orbit import relative_speed, subaperture_length
+    exp = scenario.experiment
+    L0 = exp.r2 - exp.r1
+    V = relative_speed(exp.r1, exp.r2)
+    L = subaperture_length(scenario.waveform.wavelength, L0, exp.resolution)
+    p = scenario.platform.model_copy(update={"mode": "spotlight", "speed": V, "standoff": L0, "altitude": 0.0,
+                                             "aperture_length": L, "squint_deg": 0.0, "positions": None})
+    return scenario.model_copy(update={"platform": p, "experiment": None})
+
+
+def nearest_squints(count: int, sub_length: float, closest: float) -> list[float]:
+    """Squints (deg) of the ``count`` consecutive sub-apertures nearest closest approach."""
+    k = np.arange(count) - (count - 1) / 2
+    return [float(v) for v in np.degrees(np.arctan(k * sub_length / closest))]
+
+
+def uncorrect(img: np.ndarray, az: np.ndarray, rg: np.ndarray, squint_deg: float) -> np.ndarray:
+    """|image| resampled into the squinted frame of eq 11 (X = -x0 - z0 tan th, Y = z0 cos th +
+    x0 sin th): the sub-image as a squinted processor delivers it, before geometric correction."""
+    from scipy.ndimage import map_coordinates
+    th = math.radians(squint_deg)
+    X, Y = np.meshgrid(-az, rg, indexing="ij")
+    # invert eq 11 for (x0, z0)
+    A = np.array([[-1.0, -math.tan(th)], [math.sin(th), math.cos(th)]])
+    inv = np.linalg.inv(A)
+    x0 = inv[0, 0] * X + inv[0, 1] * Y
+    z0 = inv[1, 0] * X + inv[1, 1] * Y
+    ia = (x0 - az[0]) / (az[1] - az[0])
+    ir = (z0 - rg[0]) / (rg[1] - rg[0])
+    return map_coordinates(np.abs(img), [ia, ir], order=1, cval=0.0)
+
+
+def run(scenario: Scenario, out_dir, progress=None) -> dict:
+    """Run the seed 001 experiment: sub-images, photon-limited single image, stack, report."""
+    import time
+
+    from .. import plot
+    from ..geometry.collection import build_collection, grid_axes, plane_from
+    from ..geometry.orbit import collection_span, n_subimages, relative_speed, subaperture_length
+    from ..geometry.sampling import check_sampling
+    from ..io.datasets import make_image_dataset, write_dataset, write_json_atomic, write_text_atomic
+    from ..params.scenario import dump_scenario
+    from ..simulate import signal_scale
+    from ..simulate.scene import pattern_mask
+    from ..geometry.sampling import n_fast_samples
+
+    t0 = time.perf_counter()
+    exp = scenario.experiment
+    base = geo_base(scenario)
+    col = build_collection(base)
+    check_sampling(base, col)
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    write_text_atomic(out / "scenario.yaml", dump_scenario(scenario))
+    L0 = exp.r2 - exp.r1
+    V = relative_speed(exp.r1, exp.r2)
+    D = collection_span(L0, exp.squint_max_deg)
+    L = subaperture_length(scenario.waveform.wavelength, L0, exp.resolution)
+    P_all = n_subimages(D, L)
+    count = min(P_all, exp.stack.max_subimages or P_all)
+    squints = nearest_squints(count, L, L0)
+    metrics = {"relative_speed_m_s": V, "closest_distance_m": L0, "collection_span_m": D,
+               "subaperture_length_m": L, "subimages_in_collection": P_all, "stack_count": count}
+    g = base.processing.grid
+    az, rg = grid_axes(g)
+    plane = plane_from(col.track, col.center_position, g.plane)
+    attrs = {"algorithm": "bp", "wavelength": base.waveform.wavelength, "phase_reference": "aperture_centre",
+             "aperture_center": col.center_position, "carrier_frequency": base.waveform.carrier_frequency}
+    # truth: the target reflectivity on the image grid
+    ext = base.scene.extended
+    truth = np.zeros((g.nx, g.ny))
+    if ext is not None:
+        A_, R_ = np.meshgrid(az, rg, indexing="ij")
+        truth = pattern_mask(ext.pattern, A_ / ext.extent[0], R_ / ext.extent[1]) * ext.amplitude
+    write_dataset(make_image_dataset(truth.astype(np.complex64), az, rg, plane, {**attrs, "content": "truth"}),
+                  out / "truth.nc")
+    # one photon-limited sub-image at closest approach, and its noise-free twin
+    i0 = int(np.argmin(np.abs(squints)))
+    single = subimage(base, squints[i0], i0, noise=True)
+    clean = subimage(base, squints[i0], i0, noise=False)
+    write_dataset(make_image_dataset(single, az, rg, plane, {**attrs, "content": "single photon-limited sub-image"}),
+                  out / "image_single.nc")
+    from scipy.ndimage import binary_erosion
+    mask = binary_erosion(truth > 0.5 * truth.max(), iterations=2) if truth.max() > 0 else np.ones(truth.shape, bool)
+    nz = base.receiver.noise
+    s = signal_scale(base, col, n_fast_samples(base, col))
+    n_th = s ** 2 / nz.cnr if nz.enabled else 0.0
+    metrics["snr_single"] = stack_snr(np.abs(single) ** 2, np.abs(clean) ** 2, mask)
+    metrics["snr_single_theory"] = nz.snr_theory
+    # the stack, on Dask, checkpointed
+    st = exp.stack
+    cb = (lambda d, n: progress("sub-images", d, n)) if progress else None
+    stacked, computed = run_stack(base, squints, out / "stack.zarr", scheduler=st.scheduler, workers=st.workers,
+                                  progress=cb)
+    import zarr
+    inten = np.asarray(zarr.open_group(str(out / "stack.zarr"), mode="r")["intensity"][:])
+    S = float(np.mean(stacked[mask]) - n_th)
+    metrics["snr_stack"] = S / float(np.std(stacked[mask]))
+    metrics["snr_stack_theory"] = math.sqrt(count) * nz.snr_theory
+    counts = sorted({int(c) for c in np.unique(np.round(np.geomspace(1, count, 12)))})
+    curve = []
+    for c in counts:
+        part = inten[:c].mean(axis=0)
+        curve.append(float((np.mean(part[mask]) - n_th) / np.std(part[mask])))
+        metrics[f"snr_stack_{c}"] = curve[-1]
+    write_dataset(make_image_dataset(np.sqrt(stacked).astype(np.complex64), az, rg, plane,
+                                     {**attrs, "content": f"incoherent stack of {count} sub-images (amplitude)"}),
+                  out / "image_stack.nc")
+    # figure 7: sub-images at 0 and +-squint_max (high SNR), before and after geometric correction
+    fig7 = {}
+    for q in (0.0, exp.squint_max_deg, -exp.squint_max_deg):
+        im = subimage(base, q, 0, noise=False)
+        fig7[q] = (uncorrect(im, az, rg, q), np.abs(im))
+    plot.spaceborne_figures(truth, fig7, np.abs(single), np.sqrt(stacked), counts, curve, nz.snr_theory,
+                            az, rg, out)
+    metrics["run_s"] = time.perf_counter() - t0
+    metrics["computed_subimages"] = computed
+    write_json_atomic(out / "metrics.json", metrics)
+    from ..report import write_spaceborne_report
+    write_spaceborne_report(out, scenario, metrics)
+    return metrics
