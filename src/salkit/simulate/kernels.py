@@ -89,11 +89,19 @@ def simulate_linear(pos, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp, tab
             cph, sph = math.cos(ph), math.sin(ph)
             cur_re = ar * cph - ai * sph
             cur_im = ar * sph + ai * cph
+            # rotation table by recurrence from one sin/cos pair (float64, then float32)
+            r1_re = math.cos(step)
+            r1_im = math.sin(step)
+            q_re = 1.0
+            q_im = 0.0
             for j in range(B):
-                pw_re[j] = math.cos(step * j)
-                pw_im[j] = math.sin(step * j)
-            rb_re = math.cos(step * B)
-            rb_im = math.sin(step * B)
+                pw_re[j] = q_re
+                pw_im[j] = q_im
+                tq = q_re * r1_re - q_im * r1_im
+                q_im = q_re * r1_im + q_im * r1_re
+                q_re = tq
+            rb_re = q_re
+            rb_im = q_im
             n = nlo
             while n + B <= nhi + 1:
                 cr = np.float32(cur_re)
