@@ -5,6 +5,8 @@ same run. Run with ``make bench`` (or ``.venv/bin/python benchmarks/run_all.py``
   vectorised over pixels), on the same phase history and grid; images compared.
 - PFA: time as a multiple of one complex FFT of the output size (scipy.fft, same workers).
 - simulation: scatterer-samples per second of the dechirped-echo simulator.
+- spaceborne: GEO sub-images per second in-process and through Dask with 1 and 2 workers
+  (64 sub-images, cluster start included).
 - chirp: milliseconds per pulse of 1e5 samples for each nonlinear-chirp correction.
 - pga: PGA seconds per iteration at 256 x 256 and 2048 x 2048 (LUMV and eigenvector kernels).
 - screens: phase screens per second at N = 256, 1024, 4096 against aotools' ft_sh_phase_screen
@@ -203,13 +205,41 @@ def bench_chirp(n=100_000):
     return out
 
 
+def bench_spaceborne(n=64):
+    """Space-borne sub-images per second: in-process, and through Dask with 1 and 2 workers."""
+    import shutil
+    import tempfile
+    from salkit.params import load_scenario
+    from salkit.systems.spaceborne import geo_base, nearest_squints, run_stack, subimage
+    ex = Path(__file__).resolve().parents[1] / "examples" / "spaceborne_geo.yaml"
+    base = geo_base(load_scenario(ex))
+    sq = nearest_squints(n, 3.1, 2e5)
+    subimage(base, 0.0, 0)
+    t0 = time.perf_counter()
+    for i, q in enumerate(sq[:16]):
+        subimage(base, q, i)
+    out = {"geo_subimages_per_s_in_process": 16 / (time.perf_counter() - t0)}
+    for w in (1, 2):
+        d = tempfile.mkdtemp()
+        try:
+            t0 = time.perf_counter()
+            run_stack(base, sq, Path(d) / "s.zarr", workers=w)
+            out[f"geo_subimages_per_s_dask_{w}_workers"] = n / (time.perf_counter() - t0)
+        finally:
+            shutil.rmtree(d, ignore_errors=True)
+    out["geo_dask_speedup_2_over_1"] = out["geo_subimages_per_s_dask_2_workers"] / out["geo_subimages_per_s_dask_1_workers"]
+    out["geo_full_collection_minutes_at_2_workers"] = 11288 / out["geo_subimages_per_s_dask_2_workers"] / 60
+    return out
+
+
 def main():
     info = {"machine": platform.processor() or platform.machine(), "cpus": os.cpu_count(),
             "python": platform.python_version(), "numpy": np.__version__}
     res = {}
     only = sys.argv[1:]
     for name, fn in (("backprojection", bench_backprojection), ("pfa", bench_pfa), ("simulation", bench_simulation),
-                     ("screens", bench_screens), ("pga", bench_pga), ("chirp", bench_chirp)):
+                     ("screens", bench_screens), ("pga", bench_pga), ("chirp", bench_chirp),
+                     ("spaceborne", bench_spaceborne)):
         if only and name not in only:
             continue
         t0 = time.perf_counter()

@@ -16,7 +16,7 @@ from ..io.datasets import write_text_atomic
 # name -> overrides applied in the demo only (none needed yet: every example runs in seconds)
 DEMO_SETS: dict[str, list[str]] = {
     # the full collection is 11,288 sub-images; the demo stacks the 64 nearest closest approach
-    "spaceborne_geo": ["experiment.stack.max_subimages=64"],
+    "spaceborne_geo": ["stack.max_subimages=64"],
 }
 
 

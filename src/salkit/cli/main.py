@@ -51,8 +51,10 @@ class _Bar:
     """Rich progress bar driven by ``progress(stage, done, total)`` callbacks."""
 
     def __init__(self):
-        self.p = Progress(TextColumn("{task.description:<9}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
-                          TimeElapsedColumn(), TimeRemainingColumn(), console=err, transient=False)
+        self.p = Progress(TextColumn("{task.description:<10}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
+                          TextColumn("[progress.percentage]{task.percentage:>3.0f}%"),
+                          TextColumn("{task.fields[rate]}"), TimeElapsedColumn(), TimeRemainingColumn(),
+                          console=err, transient=False)
         self.tasks = {}
 
     def __enter__(self):
@@ -64,8 +66,10 @@ class _Bar:
 
     def __call__(self, stage: str, done: int, total: int):
         if stage not in self.tasks:
-            self.tasks[stage] = self.p.add_task(stage, total=total)
-        self.p.update(self.tasks[stage], completed=done, total=total)
+            self.tasks[stage] = self.p.add_task(stage, total=total, rate="")
+        elapsed = self.p.tasks[[t.id for t in self.p.tasks].index(self.tasks[stage])].elapsed or 0.0
+        rate = f"{done / elapsed:.1f} {stage}/s" if elapsed > 0 and done else ""
+        self.p.update(self.tasks[stage], completed=done, total=total, rate=rate)
 
 
 def _grid(nx, ny, dx, dy, plane):
@@ -95,8 +99,8 @@ def run(scenario: Path = typer.Argument(..., help="scenario YAML"),
     from ..params import load_scenario
     from ..systems.airborne import run as run_system
     sets = list(set_) + ([f"processing.algorithm={algorithm}"] if algorithm else [])
-    sets += [f"experiment.stack.workers={workers}"] if workers else []
-    sets += [f"experiment.stack.scheduler={scheduler}"] if scheduler else []
+    sets += [f"stack.workers={workers}"] if workers else []
+    sets += [f"stack.scheduler={scheduler}"] if scheduler else []
     sc = load_scenario(scenario, sets)
     if sc.experiment is not None:
         from ..systems import run_experiment

@@ -411,7 +411,6 @@ class SpaceborneExperiment(_Frozen):
     r2: float = Field(default=42_178e3, gt=0, description="target orbit radius, m")
     squint_max_deg: float = Field(default=5.0, gt=0, lt=90)
     resolution: float = Field(default=0.05, gt=0, description="along-track resolution at zero squint, m")
-    stack: StackSettings = StackSettings()
 
     @model_validator(mode="after")
     def _orbits(self) -> "SpaceborneExperiment":
@@ -435,3 +434,4 @@ class Scenario(_Frozen):
     atmosphere: Optional[Atmosphere] = None
     experiment: Optional[TurbulenceExperiment | ChirpExperiment | SpaceborneExperiment] = Field(
         default=None, discriminator="kind")
+    stack: StackSettings = StackSettings()

@@ -293,3 +293,19 @@ def spaceborne_figures(truth, fig7, single, stack, counts, curve, snr1_theory, a
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3, which="both")
     _save(fig, out / "snr_vs_p.png")
+
+
+def resolution_squint_figure(squints, measured, wavelength, closest, sub_length, path) -> Path:
+    """Seed 001 fig 5: along-track resolution against squint, eq 12 and measured points."""
+    from ..geometry.orbit import max_squint_for, resolution_vs_squint
+    q = np.linspace(-20, 20, 201)
+    fig, ax = plt.subplots(figsize=(5.8, 3.8))
+    ax.plot(q, 100 * resolution_vs_squint(wavelength, closest, sub_length, q), "k-", label="eq 12")
+    ax.plot(squints, 100 * np.asarray(measured), "o", label="measured (IRW / 0.886)")
+    qm = max_squint_for(1.1)
+    ax.axvspan(-qm, qm, color="g", alpha=0.1, label=f"within 1.1x (|squint| < {qm:.1f} deg)")
+    ax.set_xlabel("squint (deg)")
+    ax.set_ylabel("along-track resolution (cm)")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    return _save(fig, path)
