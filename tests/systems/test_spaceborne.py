@@ -155,3 +155,35 @@ def test_single_subimage_snr_within_10_percent():
         noisy = np.abs(subimage(sc, q, 100 + i)) ** 2
         vals.append(stack_snr(noisy, clean, mask))
     assert np.mean(vals) == pytest.approx(sc.receiver.noise.snr_theory, rel=0.10)
+
+
+def test_coherent_stacking_with_phase_alignment():
+    """Four adjacent sub-apertures of a point target added coherently form a 4x longer aperture:
+    along-track resolution 4x finer. With random phase drifts between sub-apertures the aligned sum
+    recovers it; the unaligned sum does not."""
+    from salkit.geometry.orbit import subaperture_length
+    from salkit.metrics import analyse_point
+    from salkit.systems.spaceborne import coherent_stack, nearest_squints
+    sc = parse_scenario(merge(GEO, processing={"algorithm": "bp", "grid": {"nx": 96, "ny": 64, "dx": 0.008,
+                                                                          "dy": 0.04}}))
+    L = sc.platform.aperture_length
+    squints = nearest_squints(4, L * 1.0005, 2e5)  # consecutive, touching sub-apertures
+    ims = [subimage(sc, q, i, noise=False) for i, q in enumerate(squints)]
+    g = sc.processing.grid
+    az = (np.arange(g.nx) - g.nx // 2) * g.dx
+    rg = (np.arange(g.ny) - g.ny // 2) * g.dy
+    res = 1.55e-6 * 2e5 / (2 * L)
+    single = analyse_point(ims[0], az, rg, res, 0.05)["irw_azimuth_m"]
+    drift = np.exp(1j * np.random.default_rng(0).uniform(-np.pi, np.pi, 4))
+    aligned, offs = coherent_stack([im * d for im, d in zip(ims, drift)])
+    peak1 = analyse_point(ims[0], az, rg, res, 0.05)["peak_amplitude"]
+    ma = analyse_point(aligned, az, rg, res / 4, 0.05)
+    assert ma["irw_azimuth_m"] == pytest.approx(single / 4, rel=0.10)
+    assert ma["peak_amplitude"] == pytest.approx(4 * peak1, rel=0.05)  # the full coherent gain
+    # without alignment random drifts lose gain: E|sum of 4 unit phasors| / 4 is about 0.5
+    lost = []
+    for seed in range(5):
+        d = np.exp(1j * np.random.default_rng(seed).uniform(-np.pi, np.pi, 4))
+        plain, _ = coherent_stack([im * x for im, x in zip(ims, d)], align=False)
+        lost.append(np.abs(plain).max() / np.abs(aligned).max())
+    assert np.mean(lost) < 0.75
