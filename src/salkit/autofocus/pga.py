@@ -8,7 +8,6 @@ multiplicative exp(j phi(k)). The caller removes the image's deterministic phase
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np

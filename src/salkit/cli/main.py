@@ -67,7 +67,7 @@ class _Bar:
     def __call__(self, stage: str, done: int, total: int):
         if stage not in self.tasks:
             self.tasks[stage] = self.p.add_task(stage, total=total, rate="")
-        elapsed = self.p.tasks[[t.id for t in self.p.tasks].index(self.tasks[stage])].elapsed or 0.0
+        elapsed = next(t.elapsed for t in self.p.tasks if t.id == self.tasks[stage]) or 0.0
         rate = f"{done / elapsed:.1f} {stage}/s" if elapsed > 0 and done else ""
         self.p.update(self.tasks[stage], completed=done, total=total, rate=rate)
 

@@ -5,7 +5,6 @@ Every file in the output folder is written atomically; ``raw.nc``, ``image.nc``,
 """
 from __future__ import annotations
 
-import math
 import time
 from pathlib import Path
 from typing import Callable, Optional
@@ -226,4 +225,3 @@ def focus_file(raw: xr.Dataset, out_dir: str | Path, processing: Processing | No
 
 
 __all__ = ["analyse_image", "focus_file", "run"]
-del math

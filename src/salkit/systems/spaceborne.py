@@ -36,8 +36,7 @@ def subimage(base: Scenario, squint_deg: float, noise_seed: int, noise: bool = T
     """Complex sub-image on the common target grid. The scene (speckle) uses ``base.seed``; the
     photon noise uses ``noise_seed``."""
     sc = subaperture(base, squint_deg, base.seed)
-    rng = np.random.default_rng(base.seed)
-    from ..simulate.scene import build_scatterers  # noqa: F401  (same scene: same seed first)
+    rng = np.random.default_rng(base.seed)  # the scene (speckle) draws first: the same target every time
     raw = simulate(sc, noise=False, rng=rng)
     if noise and base.receiver.noise.enabled:
         from ..simulate import photon_noise
