@@ -420,18 +420,41 @@ class SpaceborneExperiment(_Frozen):
 
 
 # --------------------------------------------------------------------------- scenario
+from .downlooking import DownlookingExperiment  # noqa: E402  (it builds on the classes above)
+
+
 class Scenario(_Frozen):
-    """A complete simulation and processing scenario."""
+    """A complete simulation and processing scenario.
+
+    The foundation blocks (waveform, platform, receiver, processing) are required, except for the
+    down-looking SAL, whose physics (no optical chirp, scanning cylindrical lenses) lives in its
+    ``experiment`` block.
+    """
 
     name: str = "scenario"
     description: str = ""
     seed: int = Field(default=0, ge=0)
-    waveform: Waveform
-    platform: Platform
+    waveform: Optional[Waveform] = None
+    platform: Optional[Platform] = None
     scene: Scene
-    receiver: Receiver
-    processing: Processing
+    receiver: Optional[Receiver] = None
+    processing: Optional[Processing] = None
     atmosphere: Optional[Atmosphere] = None
-    experiment: Optional[TurbulenceExperiment | ChirpExperiment | SpaceborneExperiment] = Field(
+    experiment: Optional[TurbulenceExperiment | ChirpExperiment | SpaceborneExperiment | DownlookingExperiment] = Field(
         default=None, discriminator="kind")
     stack: StackSettings = StackSettings()
+
+    @model_validator(mode="after")
+    def _blocks(self) -> "Scenario":
+        if self.experiment is not None and self.experiment.kind == "downlooking":
+            return self
+        for name in ("waveform", "platform", "receiver", "processing"):
+            if getattr(self, name) is None:
+                raise ValueError(f"{name}: this section is required (only experiment.kind = downlooking "
+                                 "works without it)")
+        return self
+
+    @property
+    def is_downlooking(self) -> bool:
+        """True for a down-looking SAL scenario (seeds 000/003)."""
+        return self.experiment is not None and self.experiment.kind == "downlooking"

@@ -131,3 +131,21 @@ def write_spaceborne_report(out_dir, scenario, metrics) -> Path:
     html = env.get_template("spaceborne.html").render(name=scenario.name, description=scenario.description,
                                                       metrics=metrics, scenario=dump_scenario(scenario))
     return write_text_atomic(Path(out_dir) / "report.html", html)
+
+
+def write_downlooking_report(out_dir, scenario, metrics, design, dist_rows) -> Path:
+    """report.html of the seed 000 experiment."""
+    from ..params.scenario import dump_scenario
+    env = Environment(loader=PackageLoader("salkit", "report/templates"), autoescape=select_autoescape(["html"]))
+    point_rows = [(k, t) for k, t in (
+        ("irw_range_m", "irw_range_theory_m"), ("irw_azimuth_m", "irw_azimuth_theory_m"),
+        ("forward_irw_range_m", "irw_range_theory_m"), ("forward_irw_azimuth_m", "irw_azimuth_theory_m"),
+        ("pslr_range_db", "pslr_range_theory_db"), ("pslr_azimuth_db", "pslr_azimuth_theory_db"),
+        ("peak_offset_range_m", "peak_offset_range_theory_m"), ("peak_offset_azimuth_m", "peak_offset_azimuth_theory_m"),
+        ("fringe_modulation_point", "fringe_modulation_point_theory"), ("fringe_period_m", "fringe_period_theory_m"))
+        if k in metrics]
+    rows = {k: {"label": v.get("label", k.replace("_", " ")), **v} for k, v in dist_rows.items()}
+    html = env.get_template("downlooking.html").render(
+        name=scenario.name, description=scenario.description, m=metrics, d=design,
+        warnings=design.warnings, point_rows=point_rows, dist_rows=rows, scenario=dump_scenario(scenario))
+    return write_text_atomic(Path(out_dir) / "report.html", html)

@@ -8,6 +8,8 @@ def run_experiment(scenario, out_dir, progress=None) -> dict:
         from .turbulence import run
     elif kind == "spaceborne_geo":
         from .spaceborne import run
+    elif kind == "downlooking":
+        from .downlooking import run
     else:
         from .chirp import run
     return run(scenario, out_dir, progress=progress)

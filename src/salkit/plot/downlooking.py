@@ -1,0 +1,111 @@
+"""Figures of the down-looking SAL experiment (seed 000)."""
+from __future__ import annotations
+
+import numpy as np
+
+from . import _db, _save, plt
+
+
+def _ext(imgs):
+    return [imgs.y[0], imgs.y[-1], imgs.x[0], imgs.x[-1]]
+
+
+def raw_current(current, Y, t, path):
+    """The balanced-detector current of the first scans: a forward/backward pair and the history."""
+    fig, ax = plt.subplots(1, 2, figsize=(11, 3.6))
+    mid = current.shape[0] // 2 & ~1
+    ax[0].plot(t * 1e3, current[mid], lw=0.6, label=f"forward scan {mid}")
+    ax[0].plot(t * 1e3, current[mid + 1], lw=0.6, label=f"backward scan {mid + 1}")
+    ax[0].set_xlabel("fast time (ms)")
+    ax[0].set_ylabel("balanced current")
+    ax[0].set_xlim(t[0] * 1e3, t[0] * 1e3 + (t[-1] - t[0]) * 1e3 * 0.1)
+    ax[0].legend(fontsize=8)
+    ax[1].imshow(current.T, aspect="auto", origin="lower", cmap="gray",
+                 extent=[Y[0], Y[-1], t[0] * 1e3, t[-1] * 1e3], interpolation="nearest")
+    ax[1].set_xlabel("along-track position (m)")
+    ax[1].set_ylabel("fast time (ms)")
+    ax[1].set_title("raw current (scan x fast time)")
+    return _save(fig, path)
+
+
+def scene_figure(imgs, paper, design, path):
+    """Extended scene: plain image, eq-19 fringes, interferogram phase, the paper-order image."""
+    fig, ax = plt.subplots(1, 4, figsize=(17, 4.4))
+    ext = _ext(imgs)
+    ref = np.abs(imgs.forward).max()
+    ax[0].imshow(_db(imgs.forward, ref).T, origin="lower", extent=ext, cmap="gray", vmin=-30, vmax=0)
+    ax[0].set_title("plain DL-SAL image (forward scans), dB")
+    lim = np.abs(imgs.combined.real).max()
+    ax[1].imshow(imgs.combined.real.T, origin="lower", extent=ext, cmap="RdBu_r", vmin=-lim, vmax=lim)
+    ax[1].set_title(f"eq 19: forward + backward (real part)\nfringe period {design.fringe_period_x * 1e3:.0f} mm")
+    ifg = imgs.forward * np.conj(imgs.backward)
+    ax[2].imshow(np.angle(ifg).T, origin="lower", extent=ext, cmap="twilight", vmin=-np.pi, vmax=np.pi)
+    ax[2].set_title("interferogram phase, forward x conj(backward)")
+    ax[3].imshow(_db(paper.combined, ref * 2).T, origin="lower", extent=ext, cmap="gray", vmin=-30, vmax=0)
+    ax[3].set_title("paper order (eq 16 then eq 17), dB:\nbackward scans defocused, no fringe")
+    for a in ax:
+        a.set_xlabel("along track (m)")
+    ax[0].set_ylabel("cross track (m)")
+    return _save(fig, path)
+
+
+def terrain_figures(ter, design, exp, out):
+    """Terrain height, its image, interferogram, unwrapped residual, contour map, ground fringe."""
+    imgs = ter["images"]
+    ext = _ext(imgs)
+    gext = [ter["ground_x"][0], ter["ground_x"][-1], ter["ground_y"][0], ter["ground_y"][-1]]
+    fig, ax = plt.subplots(2, 3, figsize=(16, 9.5))
+    a = ax[0, 0]
+    im = a.imshow(ter["ground_z"].T, origin="lower", extent=gext, cmap="terrain")
+    a.set_title("true terrain height (ground coordinates), m")
+    fig.colorbar(im, ax=a)
+    a.set_xlabel("along track (m)")
+    a.set_ylabel("across track, ground (m)")
+    a = ax[0, 1]
+    a.imshow(_db(imgs.forward, np.abs(imgs.forward).max()).T, origin="lower", extent=ext, cmap="gray", vmin=-25, vmax=0)
+    a.set_title(f"DL-SAL image at {exp.terrain_look_angle_deg:g} deg look, dB")
+    a = ax[0, 2]
+    a.imshow(ter["wrapped"].T, origin="lower", extent=ext, cmap="twilight", vmin=-np.pi, vmax=np.pi)
+    a.set_title("interferogram: wrapped phase (straight fringes)")
+    a = ax[1, 0]
+    im = a.imshow(ter["ground_fringe"].T, origin="lower", extent=gext, cmap="RdBu_r")
+    a.set_title("what Fig. 2 pictures: fringe phase on the terrain\nin ground coordinates minus flat ground, rad")
+    fig.colorbar(im, ax=a)
+    a.set_xlabel("along track (m)")
+    a = ax[1, 1]
+    v = ter["valid"]
+    r = np.where(v, ter["residual"], np.nan)
+    lim = max(float(np.nanmax(np.abs(ter["ground_fringe"]))), 1e-3)
+    im = a.imshow(r.T, origin="lower", extent=ext, cmap="RdBu_r", vmin=-lim, vmax=lim)
+    a.set_title(f"SAL: unwrapped phase minus flat carrier ({exp.unwrap}), rad\nsame colour scale")
+    fig.colorbar(im, ax=a)
+    a = ax[1, 2]
+    ht = np.where(v, ter["h_true"], np.nan)
+    hr = np.where(v, ter["h_rec"], np.nan)
+    levels = np.linspace(0, max(float(np.nanmax(ht)), 1e-3), 9)
+    a.contour(imgs.y, imgs.x, np.nan_to_num(ht).T, levels=levels, colors="tab:green", linewidths=0.8)
+    cs = a.contour(imgs.y, imgs.x, np.nan_to_num(hr).T, levels=levels, colors="tab:red", linewidths=1.0)
+    a.clabel(cs, fontsize=7)
+    a.set_title("contour map: true height (green) and recovered (red), m")
+    for aa in (ax[0, 1], ax[0, 2], ax[1, 1], ax[1, 2]):
+        aa.set_xlabel("along track (m)")
+        aa.set_ylabel("cross track, image (m)")
+    return _save(fig, out / "terrain.png")
+
+
+def disturbance_figure(images, path):
+    """Point-target images (dB) under each disturbance, DL-SAL and side-looking SAL."""
+    n = len(images)
+    fig, ax = plt.subplots(1, n, figsize=(3.6 * n, 3.8))
+    ax = np.atleast_1d(ax)
+    for a, (title, (obj, arr)) in zip(ax, images.items()):
+        if arr is not None:
+            img, y, x = arr, obj.y, obj.x
+        else:
+            img, y, x = obj["image"].values, obj["azimuth"].values, obj["range"].values
+        a.imshow(_db(img, np.abs(img).max()).T, origin="lower", extent=[y[0], y[-1], x[0], x[-1]], cmap="gray",
+                 vmin=-35, vmax=0)
+        a.set_title(title, fontsize=8)
+        a.set_xlabel("along track (m)")
+    ax[0].set_ylabel("cross track (m)")
+    return _save(fig, path)

@@ -1,0 +1,481 @@
+"""Seeds 000/003: self-interferometric down-looking SAL, from the fields to the contour map.
+
+``run`` writes, atomically, into the output folder: ``scenario.yaml``, ``raw_point.nc`` (the
+balanced-detector current of the point-target run), ``image_point.nc`` (eq-19 image, foundation
+image format: ``azimuth`` = along track, ``range`` = cross track, m on the target),
+``image_point_forward.nc``, ``image_scene.nc``, ``terrain.nc``, the figures, ``metrics.json``
+and ``report.html``.
+"""
+from __future__ import annotations
+
+import math
+import time
+from pathlib import Path
+from typing import Callable, Optional
+
+import numpy as np
+import xarray as xr
+
+from ..focus.downlooking import DLImages, focus_downlooking
+from ..geometry.collection import ImagePlane
+from ..geometry.downlooking import DLDesign, boresight_frame, design
+from ..io.datasets import FORMAT_VERSION, _attrs_clean, _version, make_image_dataset, write_dataset, \
+    write_json_atomic, write_text_atomic
+from ..metrics import measure
+from ..params.scenario import dump_scenario
+from ..signals.windows import window_ipr
+from ..simulate.downlooking import (DLScatterers, Disturbances, add_receiver_noise, make_scatterers,
+                                    no_disturbance, simulate_factored, simulate_fields, track_positions)
+
+Progress = Optional[Callable[[str, int, int], None]]
+
+
+# --------------------------------------------------------------------------- helpers
+def simulate_current(scat: DLScatterers, exp, d: DLDesign, Y: np.ndarray, dist: Disturbances | None = None,
+                     rng: np.random.Generator | None = None, force_fields: bool = False) -> np.ndarray:
+    """Balanced current of a scene: the field kernel, or its factored form where that is exact."""
+    fields = (force_fields or exp.detection == "point_detector" or exp.track.speed is not None
+              or (dist is not None and (dist.tx_screen.size > 0)) or scat.count <= 64)
+    if fields:
+        cur = simulate_fields(scat, exp, d, Y, dist)
+    else:
+        diff = None if dist is None or not np.any(dist.differential) else dist.differential
+        cur = simulate_factored(scat, exp, d, Y, diff)
+    if rng is not None:
+        cur = add_receiver_noise(cur, exp.noise_snr_db, exp.optics.hwp_angle_deg, rng)
+    return cur
+
+
+def image_attrs(d: DLDesign, exp, look_angle_deg: float, kind: str) -> dict:
+    """Attributes of a DL-SAL image dataset (theory of the unweighted sinc PSF)."""
+    wi = window_ipr(exp.window if exp.window != "none" else "none")
+    return {
+        "algorithm": f"downlooking:{exp.order}", "window": exp.window, "plane": "beam",
+        "image_kind": kind, "wavelength": d.wavelength, "magnification": d.magnification,
+        "look_angle_deg": look_angle_deg, "range_reference": d.range,
+        "resolution_azimuth": d.resolution_y, "resolution_range": d.resolution_x,
+        "irw_azimuth_theory": float(wi["irw_factor"]) * d.resolution_y,
+        "irw_range_theory": float(wi["irw_factor"]) * d.resolution_x,
+        "pslr_theory": wi["pslr_db"], "islr_theory": wi["islr_db"],
+        "fringe_period_theory": d.fringe_period_x,
+    }
+
+
+def image_dataset(img: np.ndarray, imgs: DLImages, d: DLDesign, exp, look: float, kind: str,
+                  truth: np.ndarray | None = None, scenario_text: str = "") -> xr.Dataset:
+    """A DL-SAL image in the foundation image format (azimuth = along track, range = cross track)."""
+    ex, ey, b = boresight_frame(look)
+    plane = ImagePlane(origin=np.zeros(3), azimuth=ey, range=ex)
+    at = image_attrs(d, exp, look, kind)
+    at["scenario"] = scenario_text
+    return make_image_dataset(img, imgs.y, imgs.x, plane, at, truth)
+
+
+def raw_dataset(current: np.ndarray, Y: np.ndarray, t: np.ndarray, d: DLDesign, scenario_text: str) -> xr.Dataset:
+    """The balanced-detector current as a labelled dataset (data-format.md, DL-SAL raw data)."""
+    at = {"salkit_kind": "raw_downlooking", "salkit_format": FORMAT_VERSION, "salkit_version": _version(),
+          "scenario": scenario_text}
+    at.update({f"design_{k}": v for k, v in d.as_dict().items()})
+    return xr.Dataset(
+        {"current": (("scan", "fast_time"), current.astype(np.float32),
+                     {"long_name": "balanced detector output", "units": "unit-scatterer beat"}),
+         "forward": (("scan",), (np.arange(Y.size) % 2 == 0).astype(np.int8),
+                     {"long_name": "1 for a forward scan, 0 for a backward scan"})},
+        coords={"along_track": ("scan", np.asarray(Y, np.float64), {"units": "m"}),
+                "fast_time": ("fast_time", np.asarray(t, np.float64), {"units": "s"})},
+        attrs=_attrs_clean(at))
+
+
+def image_position_theory(scat: DLScatterers, d: DLDesign, focal_transmit: float) -> np.ndarray:
+    """Image position (along, cross) of each scatterer, m, by eq 20 with its own magnification:
+    xi = 2 (x_p + M_p S_b) v_x / (M_p lambda f_x) maps to x = M_ref f_t d_x / d_z."""
+    x_img = d.magnification * focal_transmit * scat.d_x / scat.d_z
+    return np.stack([scat.y, x_img], axis=1)
+
+
+def fringe_depth(comb: np.ndarray, single: np.ndarray, threshold: float = 0.2) -> float:
+    """Depth (max - min)/(max + min) of the cross-track modulation |combined| / |single image|."""
+    a, f = np.abs(comb), np.abs(single)
+    num = (a * f).sum(axis=0)
+    den = (f * f).sum(axis=0)
+    good = den > threshold * den.max()
+    r = num[good] / den[good]
+    return float((r.max() - r.min()) / (r.max() + r.min())) if r.size else float("nan")
+
+
+def _point_metrics(ds: xr.Dataset, prefix: str = "") -> dict:
+    m = measure(ds)
+    return {f"{prefix}{k}": v for k, v in m.items() if isinstance(v, (int, float)) and not k.startswith("_")}
+
+
+# --------------------------------------------------------------------------- experiments
+def point_run(sc, d: DLDesign, exp, rng, dist: Disturbances | None = None, points=None,
+              order: str | None = None, half_window: float = 0.6):
+    """Simulate and focus the scenario's point targets at the down-looking geometry.
+
+    Returns (scatterers, Y, current, images, truth).
+    """
+    pts = points if points is not None else sc.scene.points
+    ground = np.array([[p.x, p.y, p.z] for p in pts], np.float64).reshape(-1, 3)
+    amp = np.array([p.amplitude for p in pts], np.float64)  # field reflectivity |rho|; the image shows |rho|^2
+    ph = np.array([p.phase for p in pts], np.float64)
+    scat = make_scatterers(ground, amp, ph, exp.track.range, exp.track.look_angle_deg)
+    Y = track_positions(exp, d, float(ground[:, 0].min()), float(ground[:, 0].max()))
+    dist = dist or no_disturbance(Y.size)
+    cur = simulate_current(scat, exp, d, Y, dist, rng, force_fields=True)
+    truth = image_position_theory(scat, d, exp.optics.focal_transmit)
+    c = truth[0]
+    imgs = focus_downlooking(cur, Y, d, exp, y_range=(c[0] - half_window, c[0] + half_window),
+                             x_range=(c[1] - half_window, c[1] + half_window), order=order)
+    return scat, Y, cur, imgs, truth
+
+
+def extended_run(sc, d: DLDesign, exp, rng, order: str | None = None):
+    """The scenario's extended scene (flat, down-looking): images in both processing orders."""
+    from ..simulate.scene import extended_scatterers
+    ext = sc.scene.extended
+    pos, amp = extended_scatterers(ext, d.resolution_x * d.resolution_y, rng)
+    # foundation scene frame: x along track, y across track (ground), z up
+    scat = make_scatterers(pos, np.abs(amp), np.angle(amp), exp.track.range, exp.track.look_angle_deg)
+    Y = track_positions(exp, d, -0.5 * ext.extent[0], 0.5 * ext.extent[0])
+    cur = simulate_current(scat, exp, d, Y, None, rng)
+    half_y, half_x = 0.5 * ext.extent[0] + 0.1, 0.5 * ext.extent[1] + 0.1
+    imgs = focus_downlooking(cur, Y, d, exp, y_range=(-half_y, half_y), x_range=(-half_x, half_x),
+                             order="focus_then_add")
+    paper = focus_downlooking(cur, Y, d, exp, y_range=(-half_y, half_y), x_range=(-half_x, half_x),
+                              order="paper")
+    return scat, imgs, paper
+
+
+def terrain_run(exp, d: DLDesign, rng):
+    """Oblique observation of the 3-D terrain; interferogram, unwrapping, height and what it shows.
+
+    Returns a dict of arrays and numbers.
+    """
+    from scipy.stats import binned_statistic_2d
+
+    from ..interferometry import (carrier_phase, height_from_fringe_shift, interferogram, terrain_scatterers,
+                                  unwrap_phase, wrap)
+    ter = exp.terrain
+    look = exp.terrain_look_angle_deg
+    th = math.radians(look)
+    cell = d.resolution_y * d.resolution_x / max(math.cos(th), 1e-6)
+    pos, amp = terrain_scatterers(ter, cell, rng)
+    scat = make_scatterers(pos, np.abs(amp), np.angle(amp), exp.track.range, look)
+    Y = track_positions(exp, d, -0.5 * ter.extent[0], 0.5 * ter.extent[0])
+    cur = simulate_current(scat, exp, d, Y, None, rng)
+    truth_img = image_position_theory(scat, d, exp.optics.focal_transmit)
+    xr_ = (float(truth_img[:, 1].min()), float(truth_img[:, 1].max()))
+    half_y = 0.5 * ter.extent[0]
+    imgs = focus_downlooking(cur, Y, d, exp, y_range=(-half_y, half_y), x_range=xr_, order="focus_then_add")
+    F, B = imgs.forward.astype(np.complex128), imgs.backward.astype(np.complex128)
+    ifg = interferogram(F, B)
+    wrapped = np.angle(ifg)
+    carrier = carrier_phase(imgs.x, d.magnification, exp.optics.bias_common, d.fringe_period_x)[None, :]
+    residual_wrapped = wrap(wrapped - carrier)
+    unwrapped = unwrap_phase(wrapped, exp.unwrap)
+    residual = unwrapped - carrier
+    mag = np.abs(ifg)
+    good = mag > 0.05 * np.percentile(mag, 99)
+    residual = residual - np.median(residual[good])
+    h_rec = height_from_fringe_shift(residual, d.fringe_period_x, look)
+    # the true height of the surface seen in each image pixel (scatterers gridded by image position)
+    dy, dx = imgs.y[1] - imgs.y[0], imgs.x[1] - imgs.x[0]
+    ey = np.concatenate([imgs.y - dy / 2, [imgs.y[-1] + dy / 2]])
+    ex_ = np.concatenate([imgs.x - dx / 2, [imgs.x[-1] + dx / 2]])
+    h_true = binned_statistic_2d(truth_img[:, 0], truth_img[:, 1], scat.ground[:, 2], "mean",
+                                 bins=[ey, ex_]).statistic
+    valid = good & np.isfinite(h_true)
+    err = h_rec[valid] - h_true[valid]
+    # how much interferogram phase per metre of height the SAL shows, against the projection model
+    A = np.vstack([h_true[valid], np.ones(int(valid.sum()))]).T
+    sens = float(np.linalg.lstsq(A, residual[valid], rcond=None)[0][0]) if valid.sum() > 2 else float("nan")
+    corr = float(np.corrcoef(residual[valid], h_true[valid])[0, 1]) if valid.sum() > 2 else float("nan")
+    # what the paper's Fig. 2 pictures: the flat fringe phase painted onto the terrain, in ground
+    # coordinates (a second, nadir-looking camera would see this; the SAL cannot)
+    gx = np.linspace(-0.5 * ter.extent[0], 0.5 * ter.extent[0], 160)
+    gy = np.linspace(-0.5 * ter.extent[1], 0.5 * ter.extent[1], 160)
+    GX, GY = np.meshgrid(gx, gy, indexing="ij")
+    from ..interferometry import terrain_height
+    GZ = terrain_height(ter, GX, GY)
+    pts = np.stack([GX.ravel(), GY.ravel(), GZ.ravel()], axis=1)
+    flat = np.stack([GX.ravel(), GY.ravel(), np.zeros(GX.size)], axis=1)
+    s_t = make_scatterers(pts, np.ones(len(pts)), np.zeros(len(pts)), exp.track.range, look)
+    s_f = make_scatterers(flat, np.ones(len(pts)), np.zeros(len(pts)), exp.track.range, look)
+    xi_t = image_position_theory(s_t, d, exp.optics.focal_transmit)[:, 1]
+    xi_f = image_position_theory(s_f, d, exp.optics.focal_transmit)[:, 1]
+    ground_fringe = (carrier_phase(xi_t, d.magnification, exp.optics.bias_common, d.fringe_period_x)
+                     - carrier_phase(xi_f, d.magnification, exp.optics.bias_common, d.fringe_period_x)).reshape(GX.shape)
+    hmax = float(np.nanmax(GZ))
+    return {
+        "images": imgs, "ifg": ifg, "wrapped": wrapped, "residual_wrapped": residual_wrapped,
+        "unwrapped": unwrapped, "residual": residual, "h_rec": h_rec, "h_true": h_true, "valid": valid,
+        "ground_x": gx, "ground_y": gy, "ground_z": GZ, "ground_fringe": ground_fringe,
+        "metrics": {
+            "terrain_look_angle_deg": look,
+            "terrain_height_max_m": hmax,
+            "terrain_height_rms_m": float(np.sqrt(np.nanmean(h_true[valid] ** 2))),
+            "terrain_residual_phase_rms_rad": float(np.std(residual_wrapped[good])),
+            "terrain_ground_fringe_phase_rms_rad": float(np.std(ground_fringe)),
+            "terrain_ground_fringe_phase_span_rad": float(np.ptp(ground_fringe)),
+            "terrain_height_recovered_rms_m": float(np.sqrt(np.mean(h_rec[valid] ** 2))),
+            "terrain_height_error_rms_m": float(np.sqrt(np.mean(err ** 2))),
+            "terrain_height_error_over_height_rms": float(np.sqrt(np.mean(err ** 2))
+                                                          / max(np.sqrt(np.mean(h_true[valid] ** 2)), 1e-12)),
+            "terrain_residual_height_correlation": corr,
+            "terrain_phase_per_height_rad_per_m": sens,
+            "terrain_phase_per_height_model_rad_per_m": 2 * 2 * math.pi * math.sin(th) / d.fringe_period_x,
+            "terrain_image_shift_per_height_theory": math.sin(th),
+            "terrain_unwrap_method": exp.unwrap,
+            "terrain_scatterers": scat.count,
+        },
+    }
+
+
+def make_disturbances(exp, d: DLDesign, Y: np.ndarray, which: str, rng_seed: int) -> Disturbances:
+    """Sampled disturbances for one case of the immunity experiment.
+
+    ``which``: "common" (vibration, jitter, shared path screen), "transmitter" (turbulent layer at the
+    transmit pupil) or "differential" (polarisation-dependent phase).
+    """
+    from ..atmosphere.screens import phase_screens
+    ds = exp.disturbance
+    base = no_disturbance(Y.size)
+    rng = np.random.default_rng(rng_seed)
+    n_t = d.samples
+    kw = dict(vibration=base.vibration, jitter=base.jitter, path_screen=base.path_screen, path_dx=1.0,
+              tx_screen=base.tx_screen, tx_dx=1.0, tx_shift=0.0, differential=base.differential)
+    if which == "common":
+        if ds.vibration is not None:
+            kw["vibration"] = ds.vibration.values(Y.size)
+        if ds.jitter_rms > 0:
+            kw["jitter"] = ds.jitter_rms * rng.standard_normal((Y.size, n_t))
+        if ds.path_r0 is not None:
+            span = float(np.ptp(Y)) + d.spot_x + 1.0
+            dx = 0.01
+            n = int(2 ** math.ceil(math.log2(span / dx)))
+            kw["path_screen"] = phase_screens(n, dx, ds.path_r0, seed=rng_seed)[0]
+            kw["path_dx"] = dx
+    elif which == "transmitter":
+        if ds.transmitter_r0 is None:
+            raise ValueError("disturbance.transmitter_r0 is not set")
+        span = d.transmit_pupil_diameter + ds.transmitter_screen_shift * Y.size + 0.2
+        dx = 0.002
+        n = int(2 ** math.ceil(math.log2(span / dx)))
+        kw["tx_screen"] = phase_screens(n, dx, ds.transmitter_r0, seed=rng_seed)[0]
+        kw["tx_dx"] = dx
+        kw["tx_shift"] = ds.transmitter_screen_shift
+    elif which == "differential":
+        kw["differential"] = ds.differential_rms * rng.standard_normal(Y.size)
+    else:
+        raise ValueError(which)
+    return Disturbances(**kw)
+
+
+def side_looking_scenario(exp, d: DLDesign, phase_error=None):
+    """A foundation side-looking spotlight SAL of comparable resolution (first null equal to the DL-SAL's)
+    at the same wavelength and range, with the same per-pulse phase disturbance."""
+    from ..constants import SPEED_OF_LIGHT
+    from ..params.scenario import parse_scenario
+    lam, R = d.wavelength, d.range
+    res = d.resolution_x
+    L = lam * R / (2 * res)
+    data = {
+        "name": "side_looking_comparison",
+        "waveform": {"wavelength": lam, "bandwidth": SPEED_OF_LIGHT / (2 * res), "pulse_width": 10e-6, "prf": 2560.0},
+        "platform": {"mode": "spotlight", "speed": 1.0, "altitude": 0.0, "standoff": R,
+                     "real_aperture": 0.02, "aperture_length": L},
+        "scene": {"points": [{"x": 0.0, "y": 0.0}]},
+        "receiver": {"adc_rate": 8e6},
+        "processing": {"algorithm": "bp", "grid": {"nx": 96, "ny": 96, "dx": res / 3, "dy": res / 3}},
+    }
+    if phase_error is not None:
+        data["platform"]["phase_error"] = phase_error.model_dump()
+    return parse_scenario(data)
+
+
+def disturbance_experiment(sc, exp, d: DLDesign, progress: Progress = None) -> dict:
+    """The immunity experiment: DL-SAL under common-mode and non-common-mode disturbances, and a
+    side-looking SAL of comparable resolution under the same vibration."""
+    from ..focus import focus
+    from ..simulate import simulate
+    pts = sc.scene.points[:1]
+    rng = np.random.default_rng(sc.seed + 101)
+    _, Y, _, clean, truth = point_run(sc, d, exp, rng, points=pts, half_window=0.3)
+    ref = clean.combined
+    pk = float(np.abs(ref).max())
+    out = {"cases": {}}
+    cases = [("common", "common mode: vibration + jitter + shared path turbulence")]
+    if exp.disturbance.transmitter_r0 is not None:
+        cases.append(("transmitter", f"turbulent layer at the transmit pupil, r0 = {exp.disturbance.transmitter_r0:g} m"))
+    if exp.disturbance.differential_rms > 0:
+        cases.append(("differential", f"polarisation-dependent phase, {exp.disturbance.differential_rms:g} rad RMS"))
+    images = {"DL-SAL, no disturbance": (clean, ref)}
+    base_m = _dl_case_metrics(clean, d, exp, truth)
+    out["cases"]["none"] = base_m
+    for i, (key, label) in enumerate(cases):
+        if progress:
+            progress("disturbance", i, len(cases) + 2)
+        dist = make_disturbances(exp, d, Y, key, exp.disturbance.seed + i)
+        _, _, _, imgs, _ = point_run(sc, d, exp, np.random.default_rng(sc.seed + 101), dist=dist, points=pts,
+                                     half_window=0.3)
+        m = _dl_case_metrics(imgs, d, exp, truth)
+        m["max_change_over_peak"] = float(np.abs(imgs.combined - ref).max() / pk)
+        m["peak_ratio"] = m["peak_amplitude"] / base_m["peak_amplitude"]
+        m["label"] = label
+        out["cases"][key] = m
+        images[f"DL-SAL, {label}"] = (imgs, imgs.combined)
+    # side-looking SAL with the same vibration (the jitter as well, as white per-pulse phase)
+    if exp.side_looking_comparison and exp.disturbance.vibration is not None:
+        for name, pe in (("side_clean", None), ("side_vibration", exp.disturbance.vibration)):
+            ssc = side_looking_scenario(exp, d, pe)
+            raw = simulate(ssc, noise=False)
+            img = focus(raw, ssc.processing)
+            mm = measure(img)
+            out["cases"][name] = {k: mm[k] for k in ("irw_range_m", "irw_azimuth_m", "pslr_range_db",
+                                                     "pslr_azimuth_db", "peak_amplitude", "entropy")}
+            images["side-looking SAL, " + ("no disturbance" if pe is None else "same vibration")] = (img, None)
+        sl0, sl1 = out["cases"]["side_clean"], out["cases"]["side_vibration"]
+        sl1["peak_ratio"] = sl1["peak_amplitude"] / sl0["peak_amplitude"]
+    out["images"] = images
+    return out
+
+
+def _dl_case_metrics(imgs: DLImages, d: DLDesign, exp, truth) -> dict:
+    ds = image_dataset(imgs.combined, imgs, d, exp, exp.track.look_angle_deg, "combined", truth[:1])
+    m = measure(ds)
+    i, j = np.unravel_index(int(np.argmax(np.abs(imgs.forward))), imgs.forward.shape)
+    fringe_phase = float(np.angle(imgs.forward[i, j] * np.conj(imgs.backward[i, j])))
+    keys = ("irw_range_m", "irw_azimuth_m", "pslr_range_db", "pslr_azimuth_db", "peak_amplitude",
+            "peak_offset_range_m", "peak_offset_azimuth_m", "entropy")
+    out = {k: float(m[k]) for k in keys if k in m}
+    out["fringe_phase_rad"] = fringe_phase
+    return out
+
+
+# --------------------------------------------------------------------------- the run
+def run(scenario, out_dir, progress: Progress = None) -> dict:
+    """Run the seed 000 experiment; write every output; return metrics.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        With ``experiment.kind = downlooking``.
+    out_dir : str or Path
+    progress : callable(stage, done, total), optional
+
+    Returns
+    -------
+    dict
+        The metrics written to ``metrics.json``.
+    """
+    from .. import plot
+    from ..plot import downlooking as dlplot
+    from ..report import write_downlooking_report
+
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    exp = scenario.experiment
+    text = dump_scenario(scenario)
+    write_text_atomic(out / "scenario.yaml", text)
+    t_all = time.perf_counter()
+    d = design(exp)
+    metrics: dict = {f"design_{k}": v for k, v in d.as_dict().items()}
+    metrics["design_warnings"] = len(d.warnings)
+    timings = {}
+    step = 0
+    total = 5
+
+    def tick(stage):
+        nonlocal step
+        if progress:
+            progress(stage, step, total)
+        step += 1
+
+    # 1. point target
+    tick("point target")
+    rng = np.random.default_rng(scenario.seed)
+    t0 = time.perf_counter()
+    if not scenario.scene.points:
+        raise ValueError("the down-looking experiment needs a point target in scene.points")
+    scat, Y, cur, imgs, truth = point_run(scenario, d, exp, rng)
+    timings["point_s"] = time.perf_counter() - t0
+    from ..simulate.downlooking import fast_time
+    write_dataset(raw_dataset(cur, Y, fast_time(d, exp.scan.duration), d, text), out / "raw_point.nc")
+    ds_pt = image_dataset(imgs.combined, imgs, d, exp, exp.track.look_angle_deg, "combined eq 19", truth, text)
+    ds_fw = image_dataset(imgs.forward, imgs, d, exp, exp.track.look_angle_deg, "forward scans only", truth, text)
+    write_dataset(ds_pt, out / "image_point.nc")
+    write_dataset(ds_fw, out / "image_point_forward.nc")
+    m_pt = measure(ds_pt, details=True)
+    metrics.update({k: v for k, v in m_pt.items() if not k.startswith("_") and isinstance(v, (int, float))})
+    m_fw = _point_metrics(ds_fw, "forward_")
+    metrics.update({k: v for k, v in m_fw.items() if k.startswith(("forward_irw", "forward_pslr", "forward_islr",
+                                                                     "forward_peak_offset"))})
+    alpha = 2 * math.pi * (truth[0, 1] + d.magnification * exp.optics.bias_common) / d.fringe_period_x
+    metrics["fringe_modulation_point"] = float(m_pt["peak_amplitude"] / max(m_fw["forward_peak_amplitude"], 1e-30) / 2)
+    metrics["fringe_modulation_point_theory"] = abs(math.cos(alpha))
+    plot.image_db(ds_pt, out / "image_point.png", title="point target, eq-19 image (forward + backward)",
+                  truth=truth)
+    plot.cuts(m_pt, metrics, ds_pt.attrs, out / "cuts_point.png")
+    dlplot.raw_current(cur, Y, fast_time(d, exp.scan.duration), out / "raw_point.png")
+
+    # 2. extended scene: fringes, fringe period, paper order
+    tick("extended scene")
+    if scenario.scene.extended is not None:
+        t0 = time.perf_counter()
+        sscat, simgs, spaper = extended_run(scenario, d, exp, rng)
+        timings["scene_s"] = time.perf_counter() - t0
+        from ..interferometry import fringe_period, interferogram
+        per = fringe_period(interferogram(simgs.forward.astype(np.complex128), simgs.backward.astype(np.complex128)),
+                            simgs.x, factor=2.0)
+        metrics["fringe_period_m"] = per["period_m"]
+        metrics["fringe_depth_focus_then_add"] = fringe_depth(simgs.combined, simgs.forward)
+        metrics["fringe_depth_paper_order"] = fringe_depth(spaper.combined, spaper.forward)
+        metrics["scene_scatterers"] = sscat.count
+        write_dataset(image_dataset(simgs.combined, simgs, d, exp, exp.track.look_angle_deg, "combined eq 19",
+                                    None, text), out / "image_scene.nc")
+        dlplot.scene_figure(simgs, spaper, d, out / "scene.png")
+    else:
+        # a single point's interferogram phase is constant over its PSF (the fringe belongs to the
+        # scatterer's position): the period needs an extended scene
+        metrics["fringe_period_m"] = float("nan")
+    metrics["fringe_period_theory_m"] = d.fringe_period_x
+
+    # 3. terrain
+    tick("3-D terrain")
+    if exp.terrain is not None:
+        t0 = time.perf_counter()
+        ter = terrain_run(exp, d, rng)
+        timings["terrain_s"] = time.perf_counter() - t0
+        metrics.update(ter["metrics"])
+        timgs = ter["images"]
+        tds = image_dataset(timgs.combined, timgs, d, exp, exp.terrain_look_angle_deg, "terrain, combined eq 19",
+                            None, text)
+        tds["interferogram"] = (("azimuth", "range"), ter["ifg"].astype(np.complex64))
+        tds["height_recovered"] = (("azimuth", "range"), ter["h_rec"].astype(np.float32), {"units": "m"})
+        tds["height_true"] = (("azimuth", "range"), ter["h_true"].astype(np.float32), {"units": "m"})
+        write_dataset(tds, out / "terrain.nc")
+        dlplot.terrain_figures(ter, d, exp, out)
+
+    # 4. disturbance experiment
+    tick("disturbances")
+    if exp.disturbance.active:
+        t0 = time.perf_counter()
+        dres = disturbance_experiment(scenario, exp, d, progress)
+        timings["disturbance_s"] = time.perf_counter() - t0
+        for case, mm in dres["cases"].items():
+            for k, v in mm.items():
+                if isinstance(v, (int, float)):
+                    metrics[f"disturbance_{case}_{k}"] = v
+        dlplot.disturbance_figure(dres["images"], out / "disturbance.png")
+        dist_rows = dres["cases"]
+    else:
+        dist_rows = {}
+    tick("report")
+    metrics.update({f"time_{k}": v for k, v in timings.items()})
+    metrics["time_total_s"] = time.perf_counter() - t_all
+    write_json_atomic(out / "metrics.json", metrics)
+    write_downlooking_report(out, scenario, metrics, d, dist_rows)
+    if progress:
+        progress("done", total, total)
+    return metrics
