@@ -102,6 +102,10 @@ def run(scenario: Path = typer.Argument(..., help="scenario YAML"),
     sets += [f"stack.workers={workers}"] if workers else []
     sets += [f"stack.scheduler={scheduler}"] if scheduler else []
     sc = load_scenario(scenario, sets)
+    if sc.is_downlooking:
+        from ..geometry.downlooking import design
+        for w in design(sc.experiment).warnings:  # sampling errors stop here, before any work
+            out.print(f"[yellow]warning:[/] {w}", highlight=False)
     if sc.experiment is not None:
         from ..systems import run_experiment
         with _Bar() as bar:
@@ -133,6 +137,12 @@ def simulate(scenario: Path = typer.Argument(..., help="scenario YAML"),
     from ..simulate import simulate as sim
     from ..io import write_dataset
     sc = load_scenario(scenario, list(set_))
+    if sc.is_downlooking:
+        from ..systems.downlooking import simulate_point_raw
+        raw = simulate_point_raw(sc)
+        write_dataset(raw, out)
+        globals()["out"].print(f"wrote {out} ({raw.sizes['scan']} scans x {raw.sizes['fast_time']} samples)")
+        return
     with _Bar() as bar:
         raw = sim(sc, progress=lambda d, n: bar("simulate", d, n))
     write_dataset(raw, out)
@@ -162,6 +172,13 @@ def focus(raw: Path = typer.Argument(..., help="raw or phase-history NetCDF file
         raise ScenarioError("--autofocus", autofocus, "must be one of none, pga, min-entropy")
     if kernel is not None and kernel not in ("pd", "lumv", "ev"):
         raise ScenarioError("--kernel", kernel, "must be one of pd, lumv, ev")
+    from ..io import open_dataset
+    probe = open_dataset(raw)
+    if probe.attrs.get("salkit_kind") == "raw_downlooking":
+        from ..systems.downlooking import focus_raw_file
+        focus_file_dl = focus_raw_file(probe, out_dir)
+        globals()["out"].print(f"wrote {focus_file_dl}")
+        return
     ds = read_raw(raw)
     grid = _grid(nx, ny, dx, dy, plane)
     with _Bar() as bar:
@@ -196,6 +213,11 @@ def info(path: Path = typer.Argument(..., help="a salkit NetCDF file or a scenar
         from ..params import load_scenario
         from ..geometry import build_collection, check_sampling, resolution_theory
         sc = load_scenario(path)
+        if sc.is_downlooking:
+            from ..geometry.downlooking import design
+            dd = design(sc.experiment)
+            out.print_json(json.dumps({"name": sc.name, **dd.as_dict(), "warnings": list(dd.warnings)}, default=str))
+            return
         col = build_collection(sc)
         rep = check_sampling(sc, col)
         res = resolution_theory(sc, col)

@@ -93,16 +93,6 @@ def image_position_theory(scat: DLScatterers, d: DLDesign, focal_transmit: float
     return np.stack([scat.y, x_img], axis=1)
 
 
-def fringe_depth(comb: np.ndarray, single: np.ndarray, threshold: float = 0.2) -> float:
-    """Depth (max - min)/(max + min) of the cross-track modulation |combined| / |single image|."""
-    a, f = np.abs(comb), np.abs(single)
-    num = (a * f).sum(axis=0)
-    den = (f * f).sum(axis=0)
-    good = den > threshold * den.max()
-    r = num[good] / den[good]
-    return float((r.max() - r.min()) / (r.max() + r.min())) if r.size else float("nan")
-
-
 def _point_metrics(ds: xr.Dataset, prefix: str = "") -> dict:
     m = measure(ds)
     return {f"{prefix}{k}": v for k, v in m.items() if isinstance(v, (int, float)) and not k.startswith("_")}
@@ -226,7 +216,6 @@ def terrain_run(exp, d: DLDesign, rng):
             "terrain_phase_per_height_rad_per_m": sens,
             "terrain_phase_per_height_model_rad_per_m": 2 * 2 * math.pi * math.sin(th) / d.fringe_period_x,
             "terrain_image_shift_per_height_theory": math.sin(th),
-            "terrain_unwrap_method": exp.unwrap,
             "terrain_scatterers": scat.count,
         },
     }
@@ -353,6 +342,48 @@ def _dl_case_metrics(imgs: DLImages, d: DLDesign, exp, truth) -> dict:
     return out
 
 
+def simulate_point_raw(scenario) -> xr.Dataset:
+    """Raw data (balanced current) of the scenario's point targets, as a labelled dataset."""
+    from ..simulate.downlooking import fast_time
+    exp = scenario.experiment
+    d = design(exp)
+    if not scenario.scene.points:
+        from ..errors import ScenarioError
+        raise ScenarioError("scene.points", [], "the down-looking raw data needs at least one point target")
+    pts = scenario.scene.points
+    ground = np.array([[p.x, p.y, p.z] for p in pts], np.float64)
+    scat = make_scatterers(ground, np.array([p.amplitude for p in pts]), np.array([p.phase for p in pts]),
+                           exp.track.range, exp.track.look_angle_deg)
+    Y = track_positions(exp, d, float(ground[:, 0].min()), float(ground[:, 0].max()))
+    cur = simulate_current(scat, exp, d, Y, None, np.random.default_rng(scenario.seed), force_fields=True)
+    return raw_dataset(cur, Y, fast_time(d, exp.scan.duration), d, dump_scenario(scenario))
+
+
+def focus_raw_file(ds: xr.Dataset, out_dir) -> Path:
+    """Focus a DL-SAL raw file (with its embedded scenario) into ``image.nc`` (eq 19) and a figure."""
+    from .. import plot
+    from ..errors import DataFileError
+    from ..params.scenario import parse_scenario
+    import yaml
+    try:
+        sc = parse_scenario(yaml.safe_load(ds.attrs["scenario"]))
+        cur = np.asarray(ds["current"].values, np.float64)
+        Y = np.asarray(ds["along_track"].values, np.float64)
+    except (KeyError, yaml.YAMLError) as err:
+        raise DataFileError(f"not a complete salkit DL-SAL raw file ({err})") from None
+    if not np.all(np.isfinite(cur)):
+        raise DataFileError("the raw current holds NaN or infinite values")
+    exp = sc.experiment
+    d = design(exp)
+    imgs = focus_downlooking(cur, Y, d, exp)
+    out = Path(out_dir)
+    ds_img = image_dataset(imgs.combined, imgs, d, exp, exp.track.look_angle_deg, "combined eq 19", None,
+                           ds.attrs["scenario"])
+    write_dataset(ds_img, out / "image.nc")
+    plot.image_db(ds_img, out / "image.png", title="DL-SAL eq-19 image")
+    return out / "image.nc"
+
+
 # --------------------------------------------------------------------------- the run
 def run(scenario, out_dir, progress: Progress = None) -> dict:
     """Run the seed 000 experiment; write every output; return metrics.
@@ -397,7 +428,8 @@ def run(scenario, out_dir, progress: Progress = None) -> dict:
     rng = np.random.default_rng(scenario.seed)
     t0 = time.perf_counter()
     if not scenario.scene.points:
-        raise ValueError("the down-looking experiment needs a point target in scene.points")
+        from ..errors import ScenarioError
+        raise ScenarioError("scene.points", [], "the down-looking experiment needs at least one point target")
     scat, Y, cur, imgs, truth = point_run(scenario, d, exp, rng)
     timings["point_s"] = time.perf_counter() - t0
     from ..simulate.downlooking import fast_time
@@ -414,6 +446,10 @@ def run(scenario, out_dir, progress: Progress = None) -> dict:
     alpha = 2 * math.pi * (truth[0, 1] + d.magnification * exp.optics.bias_common) / d.fringe_period_x
     metrics["fringe_modulation_point"] = float(m_pt["peak_amplitude"] / max(m_fw["forward_peak_amplitude"], 1e-30) / 2)
     metrics["fringe_modulation_point_theory"] = abs(math.cos(alpha))
+    paper = focus_downlooking(cur, Y, d, exp, y_range=(imgs.y[0], imgs.y[-1]), x_range=(imgs.x[0], imgs.x[-1]),
+                              order="paper")
+    metrics["fringe_modulation_point_paper_order"] = float(np.abs(paper.combined).max()
+                                                           / max(np.abs(imgs.forward).max(), 1e-30) / 2)
     plot.image_db(ds_pt, out / "image_point.png", title="point target, eq-19 image (forward + backward)",
                   truth=truth)
     plot.cuts(m_pt, metrics, ds_pt.attrs, out / "cuts_point.png")
@@ -429,8 +465,6 @@ def run(scenario, out_dir, progress: Progress = None) -> dict:
         per = fringe_period(interferogram(simgs.forward.astype(np.complex128), simgs.backward.astype(np.complex128)),
                             simgs.x, factor=2.0)
         metrics["fringe_period_m"] = per["period_m"]
-        metrics["fringe_depth_focus_then_add"] = fringe_depth(simgs.combined, simgs.forward)
-        metrics["fringe_depth_paper_order"] = fringe_depth(spaper.combined, spaper.forward)
         metrics["scene_scatterers"] = sscat.count
         write_dataset(image_dataset(simgs.combined, simgs, d, exp, exp.track.look_angle_deg, "combined eq 19",
                                     None, text), out / "image_scene.nc")
