@@ -191,3 +191,18 @@ def test_foundation_blocks_still_required_elsewhere():
     data = {"scene": {"points": [{"x": 0, "y": 0}]}}
     with pytest.raises(ScenarioError, match="waveform"):
         parse_scenario(copy.deepcopy(data))
+
+
+def test_receiver_noise_in_the_image_follows_the_processing_gain():
+    # white noise of std sigma per fast-time sample: the cross-track FFT (gain 1/N_t) and the along-track
+    # filter (1/N_a over the footprint) leave sigma^2 / (N_t N_a) per pixel in each single-direction image
+    sc = scenario("experiment.noise_snr_db=0")
+    exp, d = sc.experiment, design(sc.experiment)
+    _, Y, cur, imgs, _ = point_run(sc, d, exp, np.random.default_rng(7), half_window=0.6)
+    sigma = 2.0  # beat amplitude of a unit scatterer is 2 (45-degree plate); SNR 0 dB
+    n_a = d.spot_y / (2 * exp.track.spacing)
+    theory = sigma ** 2 / (d.samples * n_a)
+    yy, xx = np.meshgrid(imgs.y, imgs.x, indexing="ij")
+    far = (np.abs(yy) > 0.15) & (np.abs(xx - 0.03) > 0.15)  # away from the point's sidelobe cross
+    got = float(np.mean(np.abs(imgs.forward[far]) ** 2))
+    assert got == pytest.approx(theory, rel=0.1)

@@ -61,6 +61,13 @@ def main(argv=None) -> int:
                   f"{m['A_paper_irw_m'] * 100:.2f} cm, resample {m['A_resample_irw_m'] * 100:.2f} cm, ideal "
                   f"{m['A_ideal_irw_m'] * 100:.2f} cm", flush=True)
             continue
+        if "fringe_period_theory_m" in m:
+            print(f"   {dt:.1f} s  fringe period {m['fringe_period_m'] * 1e3:.1f} mm (eq 25: "
+                  f"{m['fringe_period_theory_m'] * 1e3:.1f} mm); IRW x {m['irw_range_m'] * 1e3:.2f} mm, y "
+                  f"{m['irw_azimuth_m'] * 1e3:.2f} mm (theory {m['irw_range_theory_m'] * 1e3:.2f}); terrain height "
+                  f"error {m.get('terrain_height_error_over_height_rms', float('nan')):.2f} x its RMS; common-mode "
+                  f"change {m.get('disturbance_common_max_change_over_peak', float('nan')):.1e}", flush=True)
+            continue
         if "medium_irw_azimuth_m" in m:
             print(f"   {dt:.1f} s  medium turbulence: azimuth IRW {m['medium_irw_azimuth_m'] * 100:.3f} cm, after PGA "
                   f"{m['medium_pga_irw_azimuth_m'] * 100:.3f} cm (turbulence-free {m['none_irw_azimuth_m'] * 100:.3f} cm)",

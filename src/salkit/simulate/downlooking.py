@@ -10,7 +10,8 @@ For every scan n (forward when n is even, backward when odd), fast-time sample t
    forward s_V = v t + S_b + S_a, s_P = -v t + S_b - S_a; backward s_V = -v t + S_b + S_a,
    s_P = v t + S_b - S_a;
 2. both are multiplied by the reflectivity, the 1/d_z^2 amplitude, the round-trip phase
-   exp(-j 2 k R) over the exact distance, and the disturbances (common ones on both, the others
+   exp(-j 2 k (R - Z)) over the exact distance R (Z, the reference range, is a constant phase for
+   every field), and the disturbances (common ones on both, the others
    on each beam separately);
 3. the receiving half-wave plate (Jones matrix at angle theta) and the polarising beam splitter
    form the two channels c e_V + s e_P and s e_V - c e_P (c = cos 2 theta, s = sin 2 theta);
@@ -96,7 +97,7 @@ def _bilinear(screen, dx, u, v):
             + (1 - a) * b * screen[i, j + 1] + a * b * screen[i + 1, j + 1])
 
 
-@nb.njit(parallel=True, cache=True)
+@nb.njit(parallel=True, cache=True, fastmath=True)
 def _fields_kernel(d_x, y, d_z, amp, rho_phase, Y, t, scan_speed, lam, fx, fy, ft, wx, wy, sb, sa, vx,
                    z0, c, s, point_detector, vib, jitter, path_screen, path_dx, tx_screen, tx_dx,
                    tx_shift, diff):
@@ -108,38 +109,50 @@ def _fields_kernel(d_x, y, d_z, amp, rho_phase, Y, t, scan_speed, lam, fx, fy, f
     has_jit = jitter.shape[0] > 0
     has_path = path_screen.shape[0] > 0
     has_tx = tx_screen.shape[0] > 0
+    moving = scan_speed != 0.0
+    ax = math.pi / (lam * fx)
+    ay = math.pi / (lam * fy)
     for n in nb.prange(n_scan):
-        forward = (n % 2) == 0
-        for it in range(n_t):
-            tt = t[it]
-            if forward:
-                s_v = vx * tt + sb + sa
-                s_p = -vx * tt + sb - sa
-            else:
-                s_v = -vx * tt + sb + sa
-                s_p = vx * tt + sb - sa
-            yplat = Y[n] + scan_speed * tt
-            common = vib[n]
-            if has_jit:
-                common += jitter[n, it]
-            acc = 0.0
-            c1 = 0j
-            c2 = 0j
-            for q in range(n_q):
-                x_in = -ft * d_x[q] / d_z[q]
-                if abs(x_in) > 0.5 * wx:
-                    continue
-                dy = y[q] - yplat
-                y_in = -ft * dy / d_z[q]
-                if abs(y_in) > 0.5 * wy:
-                    continue
-                a = amp[q] * (z0 / d_z[q]) ** 2
-                r = math.sqrt(d_x[q] * d_x[q] + dy * dy + d_z[q] * d_z[q])
-                ph_c = rho_phase[q] - k2 * r + common
-                if has_path:
-                    ph_c += _bilinear(path_screen, path_dx, 0.5 * d_x[q], 0.5 * (y[q] + yplat))
-                ph_v = ph_c + math.pi * (x_in - s_v) ** 2 / (lam * fx) + math.pi * y_in * y_in / (lam * fy)
-                ph_p = ph_c + math.pi * (x_in - s_p) ** 2 / (lam * fx) - math.pi * y_in * y_in / (lam * fy) + diff[n]
+        sg = 1.0 if (n % 2) == 0 else -1.0  # forward scans on even n
+        acc = np.zeros(n_t)
+        c1 = np.zeros(n_t, np.complex128)
+        c2 = np.zeros(n_t, np.complex128)
+        for q in range(n_q):
+            x_in = -ft * d_x[q] / d_z[q]
+            if abs(x_in) > 0.5 * wx:
+                continue
+            zq = z0 / d_z[q]
+            a = amp[q] * zq * zq
+            # per-scatterer quantities for a platform that stands still during the scan
+            dy = y[q] - Y[n]
+            y_in = -ft * dy / d_z[q]
+            lit = abs(y_in) <= 0.5 * wy
+            if not moving and not lit:
+                continue
+            r = math.sqrt(d_x[q] * d_x[q] + dy * dy + d_z[q] * d_z[q])
+            ph_c0 = rho_phase[q] - k2 * (r - z0) + vib[n]  # exp(-j 2 k R), R relative to z0 (a constant)
+            if has_path:
+                ph_c0 += _bilinear(path_screen, path_dx, 0.5 * d_x[q], 0.5 * (y[q] + Y[n]))
+            for it in range(n_t):
+                tt = t[it]
+                if moving:
+                    yplat = Y[n] + scan_speed * tt
+                    dy = y[q] - yplat
+                    y_in = -ft * dy / d_z[q]
+                    if abs(y_in) > 0.5 * wy:
+                        continue
+                    r = math.sqrt(d_x[q] * d_x[q] + dy * dy + d_z[q] * d_z[q])
+                    ph_c = rho_phase[q] - k2 * (r - z0) + vib[n]
+                    if has_path:
+                        ph_c += _bilinear(path_screen, path_dx, 0.5 * d_x[q], 0.5 * (y[q] + yplat))
+                else:
+                    ph_c = ph_c0
+                if has_jit:
+                    ph_c += jitter[n, it]
+                s_v = sg * vx * tt + sb + sa
+                s_p = -sg * vx * tt + sb - sa
+                ph_v = ph_c + ax * (x_in - s_v) ** 2 + ay * y_in * y_in
+                ph_p = ph_c + ax * (x_in - s_p) ** 2 - ay * y_in * y_in + diff[n]
                 if has_tx:
                     # geometric optics: the ray reaching this target point left the stop point x_in
                     # at the local angle of each beam's wavefront and crossed the pupil here
@@ -154,13 +167,16 @@ def _fields_kernel(d_x, y, d_z, amp, rho_phase, Y, t, scan_speed, lam, fx, fy, f
                 h1 = c * ev + s * ep
                 h2 = s * ev - c * ep
                 if point_detector:
-                    c1 += h1
-                    c2 += h2
+                    c1[it] += h1
+                    c2[it] += h2
                 else:
-                    acc += (h1.real * h1.real + h1.imag * h1.imag) - (h2.real * h2.real + h2.imag * h2.imag)
-            if point_detector:
-                acc = (c1.real * c1.real + c1.imag * c1.imag) - (c2.real * c2.real + c2.imag * c2.imag)
-            out[n, it] = acc
+                    acc[it] += (h1.real * h1.real + h1.imag * h1.imag) - (h2.real * h2.real + h2.imag * h2.imag)
+        if point_detector:
+            for it in range(n_t):
+                out[n, it] = (c1[it].real ** 2 + c1[it].imag ** 2) - (c2[it].real ** 2 + c2[it].imag ** 2)
+        else:
+            for it in range(n_t):
+                out[n, it] = acc[it]
     return out
 
 
