@@ -42,7 +42,7 @@ def scene_figure(imgs, paper, design, path):
     ax[2].imshow(np.angle(ifg).T, origin="lower", extent=ext, cmap="twilight", vmin=-np.pi, vmax=np.pi)
     ax[2].set_title("interferogram phase, forward x conj(backward)")
     ax[3].imshow(_db(paper.combined, ref * 2).T, origin="lower", extent=ext, cmap="gray", vmin=-30, vmax=0)
-    ax[3].set_title("paper order (eq 16 then eq 17), dB:\nbackward scans defocused, no fringe")
+    ax[3].set_title("paper order (eq 16 then eq 17), dB:\nbackward scans not focused (spread along track)")
     for a in ax:
         a.set_xlabel("along track (m)")
     ax[0].set_ylabel("cross track (m)")
@@ -62,7 +62,8 @@ def terrain_figures(ter, design, exp, out):
     a.set_xlabel("along track (m)")
     a.set_ylabel("across track, ground (m)")
     a = ax[0, 1]
-    a.imshow(_db(imgs.forward, np.abs(imgs.forward).max()).T, origin="lower", extent=ext, cmap="gray", vmin=-25, vmax=0)
+    a.imshow(_db(imgs.forward, np.percentile(np.abs(imgs.forward), 99.5)).T, origin="lower", extent=ext, cmap="gray",
+             vmin=-25, vmax=0)
     a.set_title(f"DL-SAL image at {exp.terrain_look_angle_deg:g} deg look, dB")
     a = ax[0, 2]
     a.imshow(ter["wrapped"].T, origin="lower", extent=ext, cmap="twilight", vmin=-np.pi, vmax=np.pi)
@@ -74,20 +75,31 @@ def terrain_figures(ter, design, exp, out):
     a.set_xlabel("along track (m)")
     a = ax[1, 1]
     v = ter["valid"]
-    r = np.where(v, ter["residual"], np.nan)
-    lim = max(float(np.nanmax(np.abs(ter["ground_fringe"]))), 1e-3)
-    im = a.imshow(r.T, origin="lower", extent=ext, cmap="RdBu_r", vmin=-lim, vmax=lim)
-    a.set_title(f"SAL: unwrapped phase minus flat carrier ({exp.unwrap}), rad\nsame colour scale")
-    fig.colorbar(im, ax=a)
+    h, r = ter["h_true"][v], ter["residual"][v]
+    pick = np.random.default_rng(0).choice(h.size, size=min(h.size, 4000), replace=False)
+    a.plot(h[pick], r[pick], ".", ms=2, alpha=0.4, label="SAL interferogram minus flat carrier")
+    hh = np.linspace(0, h.max(), 10)
+    model = ter["metrics"]["terrain_phase_per_height_model_rad_per_m"]
+    a.plot(hh, model * hh, "r-", label=f"fringe-projection model ({model:.1f} rad/m)")
+    a.plot(hh, ter["metrics"]["terrain_phase_per_height_rad_per_m"] * hh, "k--",
+           label=f"fit ({ter['metrics']['terrain_phase_per_height_rad_per_m']:.2f} rad/m)")
+    a.set_xlabel("true height of the pixel's surface (m)")
+    a.set_ylabel("phase (rad)")
+    a.set_title(f"phase against height ({exp.unwrap} unwrap)")
+    a.legend(fontsize=8)
     a = ax[1, 2]
-    ht = np.where(v, ter["h_true"], np.nan)
-    hr = np.where(v, ter["h_rec"], np.nan)
-    levels = np.linspace(0, max(float(np.nanmax(ht)), 1e-3), 9)
-    a.contour(imgs.y, imgs.x, np.nan_to_num(ht).T, levels=levels, colors="tab:green", linewidths=0.8)
-    cs = a.contour(imgs.y, imgs.x, np.nan_to_num(hr).T, levels=levels, colors="tab:red", linewidths=1.0)
-    a.clabel(cs, fontsize=7)
-    a.set_title("contour map: true height (green) and recovered (red), m")
-    for aa in (ax[0, 1], ax[0, 2], ax[1, 1], ax[1, 2]):
+    ht, hr = ter["h_true_map"], ter["h_rec_map"]
+    top = max(float(np.nanmax(ht)), 1e-3)
+    levels = np.linspace(0.1 * top, top, 8)
+    cs1 = a.contour(imgs.y, imgs.x, ht.T, levels=levels, colors="tab:green", linewidths=0.9)
+    a.clabel(cs1, fontsize=7, fmt="%.2f")
+    if np.nanmax(hr) >= levels[0]:
+        a.contour(imgs.y, imgs.x, hr.T, levels=levels, colors="tab:red", linewidths=1.0)
+    a.set_title("contour map: true height (green, m)\n"
+                f"from the fringes (red): RMS {np.sqrt(np.nanmean(hr ** 2)):.3f} m")
+    a.set_xlim(ext[0], ext[1])
+    a.set_ylim(ext[2], ext[3])
+    for aa in (ax[0, 1], ax[0, 2], ax[1, 2]):
         aa.set_xlabel("along track (m)")
         aa.set_ylabel("cross track, image (m)")
     return _save(fig, out / "terrain.png")
@@ -96,7 +108,7 @@ def terrain_figures(ter, design, exp, out):
 def disturbance_figure(images, path):
     """Point-target images (dB) under each disturbance, DL-SAL and side-looking SAL."""
     n = len(images)
-    fig, ax = plt.subplots(1, n, figsize=(3.6 * n, 3.8))
+    fig, ax = plt.subplots(1, n, figsize=(3.6 * n, 4.2))
     ax = np.atleast_1d(ax)
     for a, (title, (obj, arr)) in zip(ax, images.items()):
         if arr is not None:
@@ -105,7 +117,8 @@ def disturbance_figure(images, path):
             img, y, x = obj["image"].values, obj["azimuth"].values, obj["range"].values
         a.imshow(_db(img, np.abs(img).max()).T, origin="lower", extent=[y[0], y[-1], x[0], x[-1]], cmap="gray",
                  vmin=-35, vmax=0)
-        a.set_title(title, fontsize=8)
+        import textwrap
+        a.set_title(textwrap.fill(title, 30), fontsize=8)
         a.set_xlabel("along track (m)")
     ax[0].set_ylabel("cross track (m)")
     return _save(fig, path)

@@ -177,6 +177,15 @@ def terrain_run(exp, d: DLDesign, rng):
                                  bins=[ey, ex_]).statistic
     valid = good & np.isfinite(h_true)
     err = h_rec[valid] - h_true[valid]
+    # smooth surfaces for the contour map: the true height interpolated at the image positions, and
+    # the recovered height by normalised convolution over the valid pixels (3 cells)
+    from scipy.interpolate import griddata
+    from scipy.ndimage import gaussian_filter
+    YY, XX = np.meshgrid(imgs.y, imgs.x, indexing="ij")
+    h_true_map = griddata(truth_img, scat.ground[:, 2], (YY, XX), method="linear")
+    sig = 3 * d.resolution_x / dx
+    wgt = gaussian_filter(valid.astype(float), sig)
+    h_rec_map = np.where(wgt > 0.2, gaussian_filter(np.where(valid, h_rec, 0.0), sig) / np.maximum(wgt, 1e-12), np.nan)
     # how much interferogram phase per metre of height the SAL shows, against the projection model
     A = np.vstack([h_true[valid], np.ones(int(valid.sum()))]).T
     sens = float(np.linalg.lstsq(A, residual[valid], rcond=None)[0][0]) if valid.sum() > 2 else float("nan")
@@ -198,7 +207,7 @@ def terrain_run(exp, d: DLDesign, rng):
                      - carrier_phase(xi_f, d.magnification, exp.optics.bias_common, d.fringe_period_x)).reshape(GX.shape)
     hmax = float(np.nanmax(GZ))
     return {
-        "images": imgs, "ifg": ifg, "wrapped": wrapped, "residual_wrapped": residual_wrapped,
+        "images": imgs, "ifg": ifg, "wrapped": wrapped, "h_true_map": h_true_map, "h_rec_map": h_rec_map, "residual_wrapped": residual_wrapped,
         "unwrapped": unwrapped, "residual": residual, "h_rec": h_rec, "h_true": h_true, "valid": valid,
         "ground_x": gx, "ground_y": gy, "ground_z": GZ, "ground_fringe": ground_fringe,
         "metrics": {
