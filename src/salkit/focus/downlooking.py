@@ -25,6 +25,7 @@ import numpy as np
 import scipy.fft as sfft
 
 from ..geometry.downlooking import DLDesign
+from ..simulate.downlooking import jones
 
 
 @dataclass(frozen=True)
@@ -74,13 +75,9 @@ def cross_track_focus(current: np.ndarray, design: DLDesign, exp, x_range: tuple
     sel = np.flatnonzero((x_all >= lo) & (x_all <= hi) & (f > 0))
     t0 = -0.5 * exp.scan.duration
     phase_ref = np.exp(-2j * np.pi * f[sel] * t0)
-    gain = 1.0 / (abs(_beat_scale(exp)) * w.sum())
+    c, s = jones(exp.optics.hwp_angle_deg)
+    gain = 1.0 / (abs(2 * c * s) * w.sum())  # the beat of a unit scatterer is 4cs cos(.): 2cs per sideband
     return (spec[:, sel] * (phase_ref * gain)[None, :]).astype(np.complex64), x_all[sel]
-
-
-def _beat_scale(exp) -> float:
-    th = math.radians(exp.optics.hwp_angle_deg)
-    return 4 * math.cos(2 * th) * math.sin(2 * th) / 2  # beat amplitude / 2 (1 for the 45-deg plate)
 
 
 def _along_reference(offsets: np.ndarray, design: DLDesign, sign: float, window: str) -> np.ndarray:

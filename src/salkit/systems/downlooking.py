@@ -24,7 +24,7 @@ from ..io.datasets import FORMAT_VERSION, _attrs_clean, _version, make_image_dat
 from ..metrics import measure
 from ..params.scenario import dump_scenario
 from ..signals.windows import window_ipr
-from ..simulate.downlooking import (DLScatterers, Disturbances, add_receiver_noise, make_scatterers,
+from ..simulate.downlooking import (DLScatterers, Disturbances, add_receiver_noise, fast_time, make_scatterers,
                                     no_disturbance, simulate_factored, simulate_fields, track_positions)
 
 Progress = Optional[Callable[[str, int, int], None]]
@@ -48,7 +48,7 @@ def simulate_current(scat: DLScatterers, exp, d: DLDesign, Y: np.ndarray, dist: 
 
 def image_attrs(d: DLDesign, exp, look_angle_deg: float, kind: str) -> dict:
     """Attributes of a DL-SAL image dataset (theory of the unweighted sinc PSF)."""
-    wi = window_ipr(exp.window if exp.window != "none" else "none")
+    wi = window_ipr(exp.window)
     return {
         "algorithm": f"downlooking:{exp.order}", "window": exp.window, "plane": "beam",
         "image_kind": kind, "wavelength": d.wavelength, "magnification": d.magnification,
@@ -353,7 +353,6 @@ def _dl_case_metrics(imgs: DLImages, d: DLDesign, exp, truth) -> dict:
 
 def simulate_point_raw(scenario) -> xr.Dataset:
     """Raw data (balanced current) of the scenario's point targets, as a labelled dataset."""
-    from ..simulate.downlooking import fast_time
     exp = scenario.experiment
     d = design(exp)
     if not scenario.scene.points:
@@ -441,7 +440,6 @@ def run(scenario, out_dir, progress: Progress = None) -> dict:
         raise ScenarioError("scene.points", [], "the down-looking experiment needs at least one point target")
     scat, Y, cur, imgs, truth = point_run(scenario, d, exp, rng)
     timings["point_s"] = time.perf_counter() - t0
-    from ..simulate.downlooking import fast_time
     write_dataset(raw_dataset(cur, Y, fast_time(d, exp.scan.duration), d, text), out / "raw_point.nc")
     ds_pt = image_dataset(imgs.combined, imgs, d, exp, exp.track.look_angle_deg, "combined eq 19", truth, text)
     ds_fw = image_dataset(imgs.forward, imgs, d, exp, exp.track.look_angle_deg, "forward scans only", truth, text)
