@@ -11,8 +11,10 @@ import xarray as xr
 
 from ..errors import ScenarioError
 from .pga import KERNELS, AutofocusResult, estimate_phase, min_entropy, pga
+from .sharpness import PulseAutofocusResult, pulse_sharpness
 
-METHODS = ("none", "pga", "min-entropy")
+METHODS = ("none", "pga", "min-entropy", "pulse")
+IMAGE_METHODS = ("none", "pga", "min-entropy")
 
 
 def autofocus(image: xr.Dataset, method: str = "pga", kernel: str = "lumv", max_iter: int = 30,
@@ -39,6 +41,9 @@ def autofocus(image: xr.Dataset, method: str = "pga", kernel: str = "lumv", max_
     """
     from ..metrics import image_phase_model
 
+    if method == "pulse":
+        raise ScenarioError("processing.autofocus", method, "pulse autofocus works on the phase history, "
+                            "not an image: use salkit.autofocus.pulse_autofocus(raw)")
     if method not in METHODS:
         raise ScenarioError("processing.autofocus", method, f"must be one of {METHODS}")
     if kernel not in KERNELS:
@@ -74,5 +79,18 @@ def history_metrics(res: AutofocusResult, prefix: str = "autofocus") -> dict:
     return out
 
 
-__all__ = ["AutofocusResult", "KERNELS", "METHODS", "autofocus", "estimate_phase", "history_metrics",
-           "min_entropy", "pga"]
+def pulse_metrics(res: PulseAutofocusResult, prefix: str = "autofocus") -> dict:
+    """Flat numbers for metrics.json from a per-pulse autofocus: sweeps, sharpness per sweep,
+    pixels used, RMS of the applied correction (rad)."""
+    out = {f"{prefix}_iterations": len(res.history) - 1, f"{prefix}_converged": int(res.converged),
+           f"{prefix}_pixels": res.n_pixels, f"{prefix}_phase_rms": float(np.sqrt(np.mean(res.phase ** 2)))}
+    for h in res.history:
+        out[f"{prefix}_sharpness_{h['iteration']}"] = h["sharpness"]
+    return out
+
+
+from .pulses import pulse_autofocus  # noqa: E402  (needs the names above)
+
+__all__ = ["AutofocusResult", "IMAGE_METHODS", "KERNELS", "METHODS", "PulseAutofocusResult", "autofocus",
+           "estimate_phase", "history_metrics", "min_entropy", "pga", "pulse_autofocus", "pulse_metrics",
+           "pulse_sharpness"]

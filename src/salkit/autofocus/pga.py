@@ -170,8 +170,68 @@ def pga(image: np.ndarray, kernel: str = "lumv", max_iter: int = 30, tol: float 
                            best_iteration=best[1])
 
 
-def min_entropy(image: np.ndarray, order: int = 24, band: np.ndarray | None = None,
-                max_iter: int = 200) -> AutofocusResult:
+def min_entropy(image: np.ndarray, order: int | None = None, band: np.ndarray | None = None,
+                max_iter: int = 200, init: str = "pga") -> AutofocusResult:
+    """Minimum-entropy autofocus, started from PGA and refined coarse to fine.
+
+    Entropy has local minima that a start from zero phase cannot leave once the error exceeds a
+    few radians. So the search starts from the PGA estimate (``init="pga"``; ``"zero"`` for the
+    plain search) and refines it with Legendre phases of orders 4, 8, 16, ... up to ``order``
+    (default: a quarter of the band, at least 24), each started where the previous one ended,
+    then with a free phase per bin. The lowest-entropy result is returned, so it is never worse in
+    entropy than PGA nor than its input.
+
+    Parameters
+    ----------
+    image : complex (n_az, n_rg)
+        Image, deterministic phase removed (see :func:`pga`).
+    order : int, optional
+        Highest Legendre order of the coarse-to-fine stages.
+    band : bool array (n_az,), optional
+        Phase-history bins carrying signal (FFT order).
+    max_iter : int
+        L-BFGS iterations per stage at most.
+    init : {"pga", "zero"}
+        Starting estimate.
+
+    Returns
+    -------
+    AutofocusResult
+        ``phase`` is the total correction (rad, FFT order); ``history`` the entropy of the input,
+        of the start and of each stage.
+    """
+    img0, _, band = _spectrum_and_band(image, band)
+    e0 = entropy(img0)
+    n = img0.shape[0]
+    nsel = int(band.sum())
+    if init == "pga":
+        start = pga(img0, band=band)
+        total, img = start.phase.copy(), start.image
+    else:
+        total, img = np.zeros(n), img0
+    top = order if order is not None else max(24, nsel // 4)
+    orders = [o for o in (4, 8, 16, 32, 64, 128, 256) if o < top] + [top, None]
+    history = [{"iteration": 0, "phase_rms": 0.0, "entropy": e0, "stage": "input"},
+               {"iteration": 1, "phase_rms": float(np.sqrt(np.mean(total[band] ** 2))), "entropy": entropy(img),
+                "stage": init}]
+    best = (history[-1]["entropy"], img, total.copy(), 1)
+    for o in orders:
+        r = _min_entropy_stage(img, o, band, max_iter)
+        e = r.history[-1]["entropy"]
+        if r.best_iteration == 1:
+            img, total = r.image, total + r.phase
+        history.append({"iteration": len(history), "phase_rms": float(np.sqrt(np.mean(total[band] ** 2))),
+                        "entropy": entropy(img), "stage": f"order {o}" if o else "bins"})
+        if history[-1]["entropy"] < best[0]:
+            best = (history[-1]["entropy"], img, total.copy(), len(history) - 1)
+    if best[0] > e0:  # never worse than the input
+        return AutofocusResult(image=img0, phase=np.zeros(n), history=history, converged=True)
+    return AutofocusResult(image=best[1], phase=best[2], history=history, converged=True,
+                           best_iteration=best[3])
+
+
+def _min_entropy_stage(image: np.ndarray, order: int | None = 24, band: np.ndarray | None = None,
+                       max_iter: int = 200) -> AutofocusResult:
     """Minimum-entropy autofocus: a Legendre-polynomial phase (orders 2..``order``, default 24:
     enough for ~5 cycles of error across the aperture) over the
     phase-history band minimising the image entropy, by L-BFGS with the analytic gradient
@@ -184,7 +244,10 @@ def min_entropy(image: np.ndarray, order: int = 24, band: np.ndarray | None = No
     bc = sfft.fftshift(band)
     sel = np.flatnonzero(bc)
     t = np.linspace(-1, 1, sel.size)
-    B = np.stack([legendre.legval(t, np.eye(order + 1)[k]) for k in range(2, order + 1)], axis=1)
+    if order is None or order >= sel.size - 1:  # a free phase per bin (constant and slope removed after)
+        B = np.eye(sel.size)
+    else:
+        B = np.stack([legendre.legval(t, np.eye(order + 1)[k]) for k in range(2, order + 1)], axis=1)
     Bfull = np.zeros((n, B.shape[1]))
     Bfull[sel] = B  # centred order
     Bfft = sfft.ifftshift(Bfull, axes=0)
@@ -206,6 +269,10 @@ def min_entropy(image: np.ndarray, order: int = 24, band: np.ndarray | None = No
 
     res = minimize(fun, np.zeros(B.shape[1]), jac=True, method="L-BFGS-B", options={"maxiter": max_iter})
     phi = Bfft @ res.x
+    if B.shape[1] == sel.size:  # free phases: remove the constant and slope (a shift), as PGA does
+        phc = sfft.fftshift(phi)
+        phc[sel] = _detrend(phc[sel])
+        phi = sfft.ifftshift(phc)
     img = sfft.ifft(G * np.exp(1j * phi)[:, None], axis=0)
     e0, e1 = entropy(img0), entropy(img)
     history = [{"iteration": 0, "phase_rms": 0.0, "entropy": e0}]

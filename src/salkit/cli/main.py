@@ -79,7 +79,10 @@ def _grid(nx, ny, dx, dy, plane):
     if nx is None and ny is None and dx is None and dy is None:
         return None
     if None in (nx, ny, dx, dy):
-        raise ScenarioError("--nx/--ny/--dx/--dy", (nx, ny, dx, dy), "give all four grid options or none")
+        given = ", ".join(f"--{k}={v}" for k, v in zip(("nx", "ny", "dx", "dy"), (nx, ny, dx, dy)) if v is not None)
+        missing = ", ".join(f"--{k}" for k, v in zip(("nx", "ny", "dx", "dy"), (nx, ny, dx, dy)) if v is None)
+        raise ScenarioError("--nx/--ny/--dx/--dy", given,
+                            f"a grid needs all four options or none; missing {missing}")
     try:
         return Grid(nx=nx, ny=ny, dx=dx, dy=dy, plane=plane)
     except ValidationError as e:
@@ -157,8 +160,8 @@ def focus(raw: Path = typer.Argument(..., help="raw or phase-history NetCDF file
           window: Optional[str] = typer.Option(None, help="none | hamming | taylor"),
           nx: Optional[int] = typer.Option(None), ny: Optional[int] = typer.Option(None),
           dx: Optional[float] = typer.Option(None), dy: Optional[float] = typer.Option(None),
-          plane: str = typer.Option("slant", help="slant | ground"),
-          autofocus: Optional[str] = typer.Option(None, help="none | pga | min-entropy"),
+          plane: Optional[str] = typer.Option(None, help="slant | ground (alone: the default grid in that plane)"),
+          autofocus: Optional[str] = typer.Option(None, help="none | pga | min-entropy (on the image) | pulse (one phase per pulse)"),
           kernel: Optional[str] = typer.Option(None, help="PGA kernel: pd | lumv | ev")):
     """Focus a raw file into image.nc, metrics.json, figures and report.html."""
     from ..io import read_raw
@@ -168,8 +171,8 @@ def focus(raw: Path = typer.Argument(..., help="raw or phase-history NetCDF file
         raise ScenarioError("--algorithm", algorithm, "must be one of bp, pfa, omegak")
     if window is not None and window not in ("none", "hamming", "taylor"):
         raise ScenarioError("--window", window, "must be one of none, hamming, taylor")
-    if autofocus is not None and autofocus not in ("none", "pga", "min-entropy"):
-        raise ScenarioError("--autofocus", autofocus, "must be one of none, pga, min-entropy")
+    if autofocus is not None and autofocus not in ("none", "pga", "min-entropy", "pulse"):
+        raise ScenarioError("--autofocus", autofocus, "must be one of none, pga, min-entropy, pulse")
     if kernel is not None and kernel not in ("pd", "lumv", "ev"):
         raise ScenarioError("--kernel", kernel, "must be one of pd, lumv, ev")
     from ..io import open_dataset
@@ -179,11 +182,17 @@ def focus(raw: Path = typer.Argument(..., help="raw or phase-history NetCDF file
         focus_file_dl = focus_raw_file(probe, out_dir)
         globals()["out"].print(f"wrote {focus_file_dl}")
         return
+    if plane is not None and plane not in ("slant", "ground"):
+        raise ScenarioError("--plane", plane, "must be one of slant, ground")
     ds = read_raw(raw)
-    grid = _grid(nx, ny, dx, dy, plane)
+    grid = _grid(nx, ny, dx, dy, plane or "slant")
+    if grid is None and plane is not None:
+        src = "the scenario stored in the file" if "scenario" in ds.attrs else "the default (256 x 256 at 0.8 of the resolution)"
+        out.print(f"--plane {plane} without --nx/--ny/--dx/--dy: grid size and spacing from {src}, "
+                  f"in the {plane} plane", highlight=False)
     with _Bar() as bar:
         m = focus_file(ds, out_dir, algorithm=algorithm, window_name=window, grid=grid, progress=bar,
-                       autofocus=autofocus, kernel=kernel)
+                       autofocus=autofocus, kernel=kernel, plane=plane)
     _summary(m, out_dir)
 
 

@@ -14,6 +14,7 @@ from ..errors import DataFileError, ScenarioError
 from ..geometry.collection import (beam_gain_table, grid_axes, plane_from, truth_positions,
                                    two_way_3db_sin)
 from ..io.datasets import make_image_dataset
+from ..io.ingest import normalise_phase_history
 from ..params.models import Grid, Processing
 from ..signals.windows import window, window_ipr
 from .backprojection import backproject
@@ -48,6 +49,8 @@ class PhaseHistory:
 def phase_history(raw: xr.Dataset, chirp_correction: str = "none") -> PhaseHistory:
     """Range-compress ``raw`` (with an optional nonlinear-chirp correction) and extract arrays."""
     ds = range_compress(raw, chirp_correction)
+    if raw.attrs.get("salkit_kind") == "phase_history":
+        ds = normalise_phase_history(ds)
     data = np.asarray(ds["signal"].values, dtype=np.complex64)
     freq = np.asarray(ds["frequency"].values, dtype=np.float64)
     pos = np.asarray(ds["position"].values, dtype=np.float64)
@@ -59,10 +62,6 @@ def phase_history(raw: xr.Dataset, chirp_correction: str = "none") -> PhaseHisto
     if M < 2 or P < 2:
         raise DataFileError(f"signal has shape {data.shape}; at least 2 pulses and 2 samples are needed")
     d = np.diff(freq)
-    if np.any(d == 0) or np.any(np.sign(d) != np.sign(d[0])):
-        raise DataFileError("frequency must be strictly monotonic")
-    if np.max(np.abs(d - d.mean())) > 1e-6 * abs(d.mean()):
-        raise DataFileError("frequency samples must be uniformly spaced")
     if d[0] < 0:
         freq, data = freq[::-1].copy(), data[:, ::-1].copy()
     track = np.asarray(ds.attrs.get("track", pos[-1] - pos[0]), dtype=np.float64)
@@ -97,7 +96,7 @@ def default_grid(ph: PhaseHistory, n: int = 256, plane: str = "slant") -> Grid:
 
 
 def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, algorithm: str | None = None,
-          grid: Grid | None = None, window_name: str | None = None,
+          grid: Grid | None = None, window_name: str | None = None, plane: str | None = None,
           progress: Optional[Callable[[int, int], None]] = None) -> xr.Dataset:
     """Form a complex image from raw data or a phase history.
 
@@ -114,6 +113,8 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, algorithm
         Overrides ``processing.grid``.
     window_name : {"none", "hamming", "taylor"}, optional
         Overrides ``processing.window``.
+    plane : {"slant", "ground"}, optional
+        Overrides the grid's image plane (the grid's size and spacing are kept).
     progress : callable, optional
         ``progress(done, total)``.
 
@@ -142,7 +143,11 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, algorithm
     alg = algorithm or (processing.algorithm if processing else "bp")
     if alg not in ALGORITHMS:
         raise ScenarioError("processing.algorithm", alg, f"must be one of {ALGORITHMS}")
-    g = grid or (processing.grid if processing else default_grid(ph))
+    if plane is not None and plane not in ("slant", "ground"):
+        raise ScenarioError("plane", plane, "must be one of slant, ground")
+    g = grid or (processing.grid if processing else default_grid(ph, plane=plane or "slant"))
+    if plane is not None and g.plane != plane:
+        g = g.model_copy(update={"plane": plane})
     win = window_name or (processing.window if processing else "none")
     nbar = processing.taylor_nbar if processing else 4
     sll = processing.taylor_sll if processing else 35.0
@@ -159,7 +164,8 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, algorithm
     if alg == "pfa":
         if ph.mode != "spotlight":
             raise ScenarioError("processing.algorithm", "pfa", "the polar format algorithm needs spotlight data")
-        img, info = polar_format(ph.data, ph.freq, ph.positions, ph.reference_range, plane, az, rg, wfun, wfun)
+        img, info = polar_format(ph.data, ph.freq, ph.positions, ph.reference_range, plane, az, rg, wfun, wfun,
+                                 real_aperture=ph.real_aperture)
         if progress:
             progress(P, P)
     elif alg == "omegak":
@@ -198,7 +204,10 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, algorithm
         "phase_reference": "track" if (alg == "omegak" or ph.mode == "stripmap") else "aperture_centre",
         "aperture_center": ph.center_position,
     }
-    attrs.update({f"support_{k.split('_')[1]}": v for k, v in info.items() if k.startswith("support_")})
+    attrs.update({k: v for k, v in info.items() if k.startswith(("support_", "cover_", "illuminated_"))})
+    for k in ("frequency_fit_residual_steps", "frequency_fit_residual", "phase_sign_converted"):
+        if k in ph.attrs:
+            attrs[k] = ph.attrs[k]
     if "scenario" in raw.attrs:
         attrs["scenario"] = raw.attrs["scenario"]
     truth = None

@@ -203,3 +203,75 @@ def backproject(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_ran
         if progress is not None:
             progress(b, P)
     return img_re + 1j * img_im
+
+
+@njit(parallel=True, cache=True, fastmath=True)
+def _contrib_kernel(packed, r0, inv_dr, pos, ref, pts, cyc_per_m, out):
+    """out[p, k] = profile_p(dR) exp(+j 2 pi cyc_per_m dR), dR = |x_k - p_p| - R_ref,p (float64)."""
+    P = pos.shape[0]
+    K = pts.shape[0]
+    hi = packed.shape[1] - 2.0
+    for p in prange(P):
+        pk = packed[p]
+        for k in range(K):
+            d0 = pts[k, 0] - pos[p, 0]
+            d1 = pts[k, 1] - pos[p, 1]
+            d2 = pts[k, 2] - pos[p, 2]
+            dR = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) - ref[p]
+            x = (dR - r0) * inv_dr
+            if x < 0.0 or x > hi:
+                out[p, k] = 0.0
+                continue
+            i0 = int(x)
+            f = np.float32(x - i0)
+            vr = pk[i0, 0] + f * pk[i0, 2]
+            vi = pk[i0, 1] + f * pk[i0, 3]
+            cyc = dR * cyc_per_m
+            y = np.float32(cyc - math.floor(cyc + 0.5))
+            s, c = _sincos_cycles(y)
+            out[p, k] = complex(vr * c - vi * s, vr * s + vi * c)
+
+
+def pulse_contributions(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.ndarray,
+                        points: np.ndarray, range_window: np.ndarray | None = None,
+                        upsample: int = 8, block: int = 64) -> np.ndarray:
+    """What each pulse backprojects onto each of a set of points, unsummed.
+
+    Backprojection is the sum over pulses of these terms, so an image with per-pulse complex
+    weights a_n is ``a @ contributions`` (backprojection autofocus, Ash 2012).
+
+    Parameters
+    ----------
+    ph : complex (P, M)
+        Phase history (as :func:`backproject`).
+    freq : float64 (M,)
+        Uniform frequency samples, Hz.
+    positions : float64 (P, 3)
+        Antenna positions, m.
+    ref_range : float64 (P,)
+        Reference ranges, m.
+    points : float64 (K, 3)
+        Points in the scene frame, m.
+    range_window : float (M,), optional
+        Range window (default none).
+    upsample : int
+        Range-profile upsampling.
+    block : int
+        Pulses per profile computation.
+
+    Returns
+    -------
+    complex64 (P, K)
+        Unnormalised contributions (the sum over pulses equals :func:`backproject` on those points).
+    """
+    P, M = ph.shape
+    pts = np.ascontiguousarray(points, dtype=np.float64)
+    out = np.empty((P, pts.shape[0]), np.complex64)
+    wr = np.ones(M) if range_window is None else np.asarray(range_window)
+    for a in range(0, P, block):
+        b = min(P, a + block)
+        prof, r0, dr, f_c = range_profiles(ph[a:b], freq, upsample, wr)
+        _contrib_kernel(pack_profiles(prof), r0, 1.0 / dr, np.ascontiguousarray(positions[a:b], np.float64),
+                        np.ascontiguousarray(ref_range[a:b], np.float64), pts, 2.0 * f_c / SPEED_OF_LIGHT,
+                        out[a:b])
+    return out

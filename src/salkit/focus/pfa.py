@@ -19,10 +19,90 @@ import scipy.fft as sfft
 from numba import njit, prange
 
 from ..constants import SPEED_OF_LIGHT
+from ..errors import ScenarioError
+from ..geometry.collection import first_null_sin
 from .backprojection import _sincos_cycles
 from .interp import azimuth_pass, interp_rows_linear, kernel_table
 
 WORKERS = -1
+
+#: Largest grid (pixels) PFA forms to cover the illuminated scene before cropping (2 GiB complex64).
+MAX_COVER_PIXELS = 2 ** 28
+
+
+def illuminated_extent(freq: np.ndarray, positions: np.ndarray, plane, real_aperture: float = 0.0) -> dict:
+    """Extent of the scene that contributes to a spotlight phase history, in the image plane.
+
+    Per axis the smaller of what the data can hold unambiguously (range c/(2 df) from the frequency
+    step; azimuth lambda_min/(2 dtheta) from the angle between pulses) and, when the telescope
+    diameter is known, the null-to-null beam footprint on the ground (azimuth 2 R s, s the sine of
+    the first-null half-angle; range 2 R s / tan(grazing) in the slant plane, 2 R s / sin(grazing)
+    in the ground plane).
+
+    Parameters
+    ----------
+    freq : float64 (M,)
+        Uniform frequency samples, Hz.
+    positions : float64 (P, 3)
+        Antenna positions, scene centre at the origin, m.
+    plane : ImagePlane
+        Image plane (unit ``azimuth`` and ``range`` axes).
+    real_aperture : float
+        Telescope diameter, m; 0 when unknown.
+
+    Returns
+    -------
+    dict
+        ``azimuth`` and ``range`` extents (m) and ``limited_by`` ("data" or "beam") per axis.
+    """
+    c = SPEED_OF_LIGHT
+    P = positions.shape[0]
+    u = positions / np.linalg.norm(positions, axis=1, keepdims=True)
+    dtheta = math.acos(min(1.0, float(u[0] @ u[-1]))) / max(P - 1, 1)
+    lam_min = c / float(np.max(freq))
+    pc = positions[P // 2]
+    R = float(np.linalg.norm(pc))
+    look = -pc / R
+    cos_r = max(abs(float(look @ plane.range)), 1e-6)
+    rg_data = c / (2.0 * abs(float(freq[1] - freq[0]))) / cos_r
+    az_data = lam_min / (2.0 * dtheta) if dtheta > 0 else math.inf
+    out = {"azimuth": az_data, "range": rg_data, "limited_by": {"azimuth": "data", "range": "data"}}
+    if real_aperture > 0:
+        s = first_null_sin(c / float(np.min(freq)), real_aperture)
+        d = 2.0 * R * s
+        sin_g = max(abs(float(look[2])), 1e-6)
+        cos_g = math.sqrt(max(1.0 - sin_g ** 2, 0.0))
+        rg_beam = d / sin_g if abs(float(plane.range[2])) < 1e-9 else d * max(cos_g, 1e-6) / sin_g
+        rg_beam = max(rg_beam, d)
+        if d < out["azimuth"]:
+            out["azimuth"], out["limited_by"]["azimuth"] = d, "beam"
+        if rg_beam < out["range"]:
+            out["range"], out["limited_by"]["range"] = rg_beam, "beam"
+    return out
+
+
+def cover_axes(az: np.ndarray, rg: np.ndarray, extent: dict, margin: int = 8):
+    """Axes on the spacing of ``az``/``rg`` that hold the requested ones and the illuminated extent.
+
+    Returns
+    -------
+    az2, rg2 : ndarray
+        Extended axes (m).
+    (i0, j0) : tuple of int
+        Index of ``az[0]``, ``rg[0]`` in the extended axes.
+    """
+    def one(x, ext):
+        n = x.size
+        d = float(x[1] - x[0])
+        c0 = float(x[n // 2])
+        half = max(abs(c0) + ext / 2.0, (n // 2 + 1) * d)
+        n2 = max(n, 2 * int(math.ceil(half / d)) + 1 + 2 * margin)
+        n2 = sfft.next_fast_len(n2)
+        x2 = c0 + (np.arange(n2) - n2 // 2) * d
+        return x2, n2 // 2 - n // 2
+    az2, i0 = one(az, extent["azimuth"])
+    rg2, j0 = one(rg, extent["range"])
+    return az2, rg2, (i0, j0)
 
 
 @njit(parallel=True, cache=True, fastmath=True)
@@ -52,8 +132,40 @@ def _finalise(img, az, rg, a, r, pc, kx_c, ky_c, k_c, scale):
 
 
 def pfa(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.ndarray,
-        plane, az: np.ndarray, rg: np.ndarray, win_az, win_rg, half: int = 4) -> tuple[np.ndarray, dict]:
-    """Form a spotlight image with the polar format algorithm.
+        plane, az: np.ndarray, rg: np.ndarray, win_az, win_rg, half: int = 4,
+        real_aperture: float = 0.0, cover: bool = True) -> tuple[np.ndarray, dict]:
+    """Form a spotlight image with the polar format algorithm, never aliased.
+
+    A grid smaller than the illuminated scene (:func:`illuminated_extent`) would fold the scene
+    outside it back in, since the K-space samples are spaced for the grid's extent. With ``cover``
+    the image is formed on axes of the same spacing that hold the whole scene
+    (:func:`cover_axes`) and cropped to ``az`` x ``rg``; a cover larger than
+    :data:`MAX_COVER_PIXELS` is refused with the numbers. See :func:`pfa_on_grid` for the other
+    parameters.
+    """
+    info = {"cover_azimuth": az.size, "cover_range": rg.size}
+    if not cover:
+        return pfa_on_grid(ph, freq, positions, ref_range, plane, az, rg, win_az, win_rg, half)
+    ext = illuminated_extent(freq, positions, plane, real_aperture)
+    az2, rg2, (i0, j0) = cover_axes(az, rg, ext)
+    if az2.size * rg2.size > MAX_COVER_PIXELS:
+        raise ScenarioError("processing.grid", f"{az.size} x {rg.size} pixels",
+                            f"PFA must form {az2.size} x {rg2.size} pixels to hold the illuminated scene "
+                            f"({ext['azimuth']:.4g} m x {ext['range']:.4g} m, limited by "
+                            f"{ext['limited_by']['azimuth']}/{ext['limited_by']['range']}) and crop, more "
+                            f"than {MAX_COVER_PIXELS} pixels; use --algorithm bp or a coarser grid")
+    img, inf = pfa_on_grid(ph, freq, positions, ref_range, plane, az2, rg2, win_az, win_rg, half)
+    info.update(inf)
+    info.update({"cover_azimuth": az2.size, "cover_range": rg2.size,
+                 "illuminated_azimuth": ext["azimuth"], "illuminated_range": ext["range"]})
+    return np.ascontiguousarray(img[i0:i0 + az.size, j0:j0 + rg.size]), info
+
+
+def pfa_on_grid(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.ndarray,
+                plane, az: np.ndarray, rg: np.ndarray, win_az, win_rg, half: int = 4) -> tuple[np.ndarray, dict]:
+    """Form a spotlight image with the polar format algorithm on exactly ``az`` x ``rg``.
+
+    The scene outside the grid folds in: use :func:`pfa` unless the grid holds the scene.
 
     Parameters
     ----------

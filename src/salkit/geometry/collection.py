@@ -94,8 +94,25 @@ def beam_gain_table(wavelength: float, diameter: float, n: int = 8192, u_max: fl
     return (one_way ** 2).astype(np.float64), dsin
 
 
-def _first_null_sin(wavelength: float, diameter: float) -> float:
+def first_null_sin(wavelength: float, diameter: float) -> float:
+    """sin of the half-angle of the first null of a circular aperture's (Airy) pattern.
+
+    Parameters
+    ----------
+    wavelength : float
+        m.
+    diameter : float
+        Aperture diameter, m.
+
+    Returns
+    -------
+    float
+        1.2197 wavelength / diameter (dimensionless).
+    """
     return 1.2196698912665045 * wavelength / diameter
+
+
+_first_null_sin = first_null_sin
 
 
 def two_way_3db_sin(wavelength: float, diameter: float) -> float:

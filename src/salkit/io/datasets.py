@@ -243,7 +243,9 @@ def read_raw(path: str | Path) -> xr.Dataset:
             if a not in ds.attrs:
                 raise DataFileError(f"{path}: raw file lacks the attribute '{a}'")
     else:
+        from .ingest import normalise_phase_history
         _require(ds, path, ["signal", "position", "reference_range", "frequency"], "phase_history")
+        ds = normalise_phase_history(ds, str(path))
     if not np.iscomplexobj(ds["signal"].values):
         raise DataFileError(f"{path}: variable 'signal' must be complex, got {ds['signal'].dtype}")
     _finite(ds, path, ["signal", "position", "reference_range"])

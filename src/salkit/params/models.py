@@ -316,7 +316,8 @@ class Processing(_Frozen):
     taylor_nbar: int = Field(default=4, ge=1)
     taylor_sll: float = Field(default=35.0, gt=13.3, description="Taylor sidelobe level, dB")
     grid: Grid
-    autofocus: Literal["none", "pga", "min-entropy"] = "none"
+    autofocus: Literal["none", "pga", "min-entropy", "pulse"] = Field(
+        default="none", description="pga / min-entropy on the image; pulse: one phase per pulse on the phase history")
     autofocus_kernel: Literal["pd", "lumv", "ev"] = "lumv"
     autofocus_max_iter: int = Field(default=30, ge=1, le=500)
     range_upsample: int = Field(default=8, ge=2, le=64, description="backprojection profile upsampling")

@@ -111,6 +111,16 @@ def run_autofocus(image: xr.Dataset, scenario: Scenario | None, out: Path, metho
     return af, res, m
 
 
+def pulse_correct(raw: xr.Dataset, grid, chirp_correction: str = "none") -> tuple[xr.Dataset, dict]:
+    """Per-pulse autofocus of ``raw`` on ``grid``: the corrected phase history and its metrics."""
+    from ..autofocus import pulse_autofocus, pulse_metrics
+
+    corrected, res = pulse_autofocus(raw, grid, chirp_correction=chirp_correction)
+    m = pulse_metrics(res)
+    m["autofocus_s"] = float(corrected.attrs.get("autofocus_s", 0.0))
+    return corrected, m
+
+
 def report_outputs(out: Path, image: xr.Dataset, metrics: dict, details: dict, scenario_text: str,
                    name: str, description: str, timings: dict, raw: xr.Dataset | None = None) -> None:
     """Write metrics.json, figures and report.html for a focused image."""
@@ -170,10 +180,15 @@ def run(scenario: Scenario, out_dir: str | Path, progress: Progress = None) -> d
     write_dataset(raw, out / "raw.nc")
     t0 = time.perf_counter()
     cb = (lambda d, n: progress("focus", d, n)) if progress else None
-    image = focus(raw, scenario.processing, progress=cb)
-    t_focus = time.perf_counter() - t0
     af_metrics, af_res = {}, None
-    if scenario.processing.autofocus != "none":
+    if scenario.processing.autofocus == "pulse":
+        write_dataset(focus(raw, scenario.processing), out / "image_focus.nc")
+        corrected, af_metrics = pulse_correct(raw, scenario.processing.grid, scenario.processing.chirp_correction)
+        image = focus(corrected, scenario.processing, progress=cb)
+    else:
+        image = focus(raw, scenario.processing, progress=cb)
+    t_focus = time.perf_counter() - t0
+    if scenario.processing.autofocus not in ("none", "pulse"):
         image, af_res, af_metrics = run_autofocus(image, scenario, out)
     write_dataset(image, out / "image.nc")
     metrics, details = analyse_image(image, scenario)
@@ -191,7 +206,8 @@ def run(scenario: Scenario, out_dir: str | Path, progress: Progress = None) -> d
 
 def focus_file(raw: xr.Dataset, out_dir: str | Path, processing: Processing | None = None,
                algorithm: str | None = None, window_name: str | None = None, grid=None,
-               progress: Progress = None, autofocus: str | None = None, kernel: str | None = None) -> dict:
+               progress: Progress = None, autofocus: str | None = None, kernel: str | None = None,
+               plane: str | None = None) -> dict:
     """Focus an existing raw file and write image.nc, metrics.json, figures and report.html."""
     from ..params.scenario import parse_scenario
     import yaml
@@ -206,11 +222,24 @@ def focus_file(raw: xr.Dataset, out_dir: str | Path, processing: Processing | No
             scenario = None
     t0 = time.perf_counter()
     cb = (lambda d, n: progress("focus", d, n)) if progress else None
-    image = focus(raw, processing, algorithm=algorithm, window_name=window_name, grid=grid, progress=cb)
-    t_focus = time.perf_counter() - t0
     af_metrics = {}
     method = autofocus or (scenario.processing.autofocus if scenario is not None else "none")
-    if method != "none":
+    if method == "pulse":
+        before = focus(raw, processing, algorithm=algorithm, window_name=window_name, grid=grid, plane=plane)
+        write_dataset(before, out / "image_focus.nc")
+        g = grid if grid is not None else None
+        if g is None and before is not None:  # the same pixels as the image
+            from ..params.models import Grid
+            az, rg = before["azimuth"].values, before["range"].values
+            g = Grid(nx=az.size, ny=rg.size, dx=float(az[1] - az[0]), dy=float(rg[1] - rg[0]),
+                     plane=str(before.attrs.get("plane", "slant")),
+                     center=(float(az[az.size // 2]), float(rg[rg.size // 2])))
+        cc = (processing or (scenario.processing if scenario is not None else None))
+        raw, af_metrics = pulse_correct(raw, g, cc.chirp_correction if cc is not None else "none")
+    image = focus(raw, processing, algorithm=algorithm, window_name=window_name, grid=grid, plane=plane,
+                  progress=cb)
+    t_focus = time.perf_counter() - t0
+    if method not in ("none", "pulse"):
         image, _, af_metrics = run_autofocus(image, scenario, out, method, kernel)
     write_dataset(image, out / "image.nc")
     metrics, details = analyse_image(image, scenario)
