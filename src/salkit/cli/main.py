@@ -175,16 +175,19 @@ def focus(raw: Path = typer.Argument(..., help="raw or phase-history NetCDF file
         raise ScenarioError("--autofocus", autofocus, "must be one of none, pga, min-entropy, pulse")
     if kernel is not None and kernel not in ("pd", "lumv", "ev"):
         raise ScenarioError("--kernel", kernel, "must be one of pd, lumv, ev")
-    from ..io import open_dataset
-    probe = open_dataset(raw)
-    if probe.attrs.get("salkit_kind") == "raw_downlooking":
+    from ..io import open_dataset, read_phase_data
+    if raw.suffix.lower() in (".cphd", ".mat"):
+        probe = None
+    else:
+        probe = open_dataset(raw)
+    if probe is not None and probe.attrs.get("salkit_kind") == "raw_downlooking":
         from ..systems.downlooking import focus_raw_file
         focus_file_dl = focus_raw_file(probe, out_dir)
         globals()["out"].print(f"wrote {focus_file_dl}")
         return
     if plane is not None and plane not in ("slant", "ground"):
         raise ScenarioError("--plane", plane, "must be one of slant, ground")
-    ds = read_raw(raw)
+    ds = read_phase_data(raw)
     grid = _grid(nx, ny, dx, dy, plane or "slant")
     if grid is None and plane is not None:
         src = "the scenario stored in the file" if "scenario" in ds.attrs else "the default (256 x 256 at 0.8 of the resolution)"
@@ -194,6 +197,47 @@ def focus(raw: Path = typer.Argument(..., help="raw or phase-history NetCDF file
         m = focus_file(ds, out_dir, algorithm=algorithm, window_name=window, grid=grid, progress=bar,
                        autofocus=autofocus, kernel=kernel, plane=plane)
     _summary(m, out_dir)
+
+
+@app.command()
+@_guard
+def convert(src: Path = typer.Argument(..., help="input: .nc (raw or phase history), .cphd or .mat (GOTCHA)"),
+            dst: Path = typer.Argument(..., help="output: .nc (phase history), .cphd or .mat"),
+            origin: Optional[str] = typer.Option(None, help="scene centre for CPHD as LAT,LON,HAE (deg, deg, m); "
+                                                 "default the file's origin_llh, else 0,0,0"),
+            check: bool = typer.Option(True, help="run sarkit's consistency checker on a written CPHD")):
+    """Convert phase histories between salkit NetCDF, CPHD and the GOTCHA .mat layout."""
+    from ..errors import ScenarioError
+    from ..focus import range_compress
+    from ..io import PHASE_SUFFIXES, check_cphd, read_phase_data, write_cphd, write_dataset, write_gotcha
+    suf = dst.suffix.lower()
+    if suf not in PHASE_SUFFIXES:
+        raise ScenarioError("dst", str(dst), f"suffix must be one of {', '.join(PHASE_SUFFIXES)}")
+    llh = None
+    if origin is not None:
+        try:
+            llh = [float(v) for v in origin.split(",")]
+            assert len(llh) == 3 and abs(llh[0]) <= 90 and -180 <= llh[1] <= 360
+        except (ValueError, AssertionError):
+            raise ScenarioError("--origin", origin, "must be LAT,LON,HAE with |LAT| <= 90 deg") from None
+    ds = read_phase_data(src)
+    ph = range_compress(ds) if ds.attrs.get("salkit_kind") == "raw" else ds
+    if suf == ".cphd":
+        write_cphd(ph, dst, origin=llh)
+        if check:
+            res = check_cphd(dst)
+            for w in res["warnings"]:
+                out.print(f"[yellow]sarkit warning:[/] {w}", highlight=False)
+            if res["errors"]:
+                for e in res["errors"]:
+                    err.print(f"[red]sarkit error:[/] {e}", highlight=False)
+                raise typer.Exit(code=1)
+            out.print("sarkit CPHD consistency check: 0 errors", highlight=False)
+    elif suf == ".mat":
+        write_gotcha(ph, dst)
+    else:
+        write_dataset(ph, dst)
+    out.print(f"wrote {dst} ({ph.sizes['slow_time']} pulses x {ph.sizes['frequency']} frequencies)")
 
 
 @app.command()

@@ -4,6 +4,43 @@ import xarray as _xr
 from .datasets import (describe, make_image_dataset, make_raw_dataset, open_dataset, read_image,
                        read_raw, write_dataset, write_json_atomic, write_text_atomic)
 
+from .cphd import check_cphd, read_cphd, write_cphd
+from .gotcha import read_gotcha, write_gotcha
+from .ingest import normalise_phase_history, regularise_axis
+
+PHASE_SUFFIXES = {".nc": "NetCDF", ".h5": "NetCDF", ".cphd": "CPHD", ".mat": "GOTCHA .mat"}
+
+
+def read_phase_data(path) -> "_xr.Dataset":
+    """Read a raw or phase-history file of any supported format, chosen by the suffix:
+    ``.nc``/``.h5`` (salkit NetCDF), ``.cphd`` (CPHD 1.0), ``.mat`` (GOTCHA layout).
+
+    Parameters
+    ----------
+    path : str or Path
+
+    Returns
+    -------
+    xarray.Dataset
+        ``salkit_kind`` "raw" or "phase_history".
+
+    Raises
+    ------
+    DataFileError
+        Unknown suffix or an unusable file.
+    """
+    from pathlib import Path as _P
+    from ..errors import DataFileError as _E
+    suf = _P(path).suffix.lower()
+    if suf == ".cphd":
+        return read_cphd(path)
+    if suf == ".mat":
+        return read_gotcha(path)
+    if suf in (".nc", ".h5", ".nc4", ".hdf5"):
+        return read_raw(path)
+    raise _E(f"{path}: unknown suffix {suf!r}; salkit reads {', '.join(PHASE_SUFFIXES)}")
+
+
 # Complex variables are HDF5 compound types that only the h5netcdf engine decodes as complex.
 # When netCDF4-python is also installed, make plain xarray.open_dataset try h5netcdf first.
 try:  # pragma: no cover - depends on the xarray version
@@ -13,5 +50,6 @@ try:  # pragma: no cover - depends on the xarray version
 except Exception:  # noqa: BLE001
     pass
 
-__all__ = ["describe", "make_image_dataset", "make_raw_dataset", "open_dataset", "read_image",
+__all__ = ["PHASE_SUFFIXES", "check_cphd", "normalise_phase_history", "read_cphd", "read_gotcha",
+           "read_phase_data", "regularise_axis", "write_cphd", "write_gotcha", "describe", "make_image_dataset", "make_raw_dataset", "open_dataset", "read_image",
            "read_raw", "write_dataset", "write_json_atomic", "write_text_atomic"]

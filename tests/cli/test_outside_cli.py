@@ -1,0 +1,64 @@
+"""The command line on outside data: convert, focus a CPHD, grid options, bad files exit 2."""
+import subprocess
+import sys
+
+import pytest
+from typer.testing import CliRunner
+
+from salkit.cli.main import app
+from salkit.io import write_dataset
+
+runner = CliRunner()
+
+
+@pytest.fixture(scope="module")
+def raw_file(tmp_path_factory):
+    from salkit import simulate
+    from salkit.params import parse_scenario
+    from ..conftest import SPOT
+    d = tmp_path_factory.mktemp("cli")
+    return write_dataset(simulate(parse_scenario(SPOT)), d / "raw.nc")
+
+
+def test_convert_cphd_and_focus_it(tmp_path, raw_file):
+    r = runner.invoke(app, ["convert", str(raw_file), str(tmp_path / "r.cphd")])
+    assert r.exit_code == 0, r.output
+    assert "0 errors" in r.output
+    r = runner.invoke(app, ["focus", str(tmp_path / "r.cphd"), "--out", str(tmp_path / "f"), "--algorithm", "pfa"])
+    assert r.exit_code == 0, r.output
+    assert (tmp_path / "f" / "image.nc").is_file()
+
+
+def test_plane_alone_is_completed_with_a_message(tmp_path, raw_file):
+    r = runner.invoke(app, ["focus", str(raw_file), "--out", str(tmp_path / "g"), "--plane", "ground"])
+    assert r.exit_code == 0, r.output
+    assert "--plane ground without --nx/--ny/--dx/--dy" in r.output
+    from salkit.io import read_image
+    assert read_image(tmp_path / "g" / "image.nc").attrs["plane"] == "ground"
+
+
+@pytest.mark.parametrize("args,msg", [
+    (["--nx", "64", "--dx", "0.01"], "missing --ny, --dy"),
+    (["--plane", "sideways"], "must be one of slant, ground"),
+    (["--autofocus", "magic"], "must be one of none, pga, min-entropy, pulse"),
+])
+def test_bad_grid_options_exit_2(tmp_path, raw_file, args, msg):
+    r = runner.invoke(app, ["focus", str(raw_file), "--out", str(tmp_path / "h")] + args)
+    assert r.exit_code == 2 and msg in " ".join(r.output.split()), r.output
+
+
+def test_bad_files_exit_2_without_traceback(tmp_path):
+    (tmp_path / "bad.cphd").write_bytes(b"junk")
+    (tmp_path / "bad.mat").write_bytes(b"junk")
+    for name in ("bad.cphd", "bad.mat"):
+        p = subprocess.run([sys.executable, "-m", "salkit.cli.main", "focus", str(tmp_path / name), "--out",
+                            str(tmp_path / "o")], capture_output=True, text=True)
+        assert p.returncode == 2 and "Traceback" not in p.stderr and "cannot be read" in p.stderr
+
+
+def test_pulse_autofocus_from_cli(tmp_path, raw_file):
+    r = runner.invoke(app, ["focus", str(raw_file), "--out", str(tmp_path / "p"), "--autofocus", "pulse"])
+    assert r.exit_code == 0, r.output
+    import json
+    m = json.loads((tmp_path / "p" / "metrics.json").read_text())
+    assert m["autofocus_iterations"] >= 1 and "autofocus_sharpness_0" in m
