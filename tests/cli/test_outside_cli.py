@@ -62,3 +62,14 @@ def test_pulse_autofocus_from_cli(tmp_path, raw_file):
     import json
     m = json.loads((tmp_path / "p" / "metrics.json").read_text())
     assert m["autofocus_iterations"] >= 1 and "autofocus_sharpness_0" in m
+
+
+def test_focus_with_sicd_and_export(tmp_path, raw_file):
+    r = runner.invoke(app, ["focus", str(raw_file), "--out", str(tmp_path / "s"), "--sicd"])
+    assert r.exit_code == 0, r.output
+    assert (tmp_path / "s" / "image.nitf").is_file() and "0 errors" in r.output
+    r = runner.invoke(app, ["export", str(tmp_path / "s" / "image.nc"), str(tmp_path / "x.nitf"),
+                            "--origin", "48.1,11.6,520"])
+    assert r.exit_code == 0 and "0 errors" in r.output, r.output
+    r = runner.invoke(app, ["export", str(tmp_path / "s" / "image.nc"), str(tmp_path / "x.png")])
+    assert r.exit_code == 2 and ".nitf or .ntf" in r.output

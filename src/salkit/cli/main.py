@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import functools
 import json
+import math
 import shutil
 import sys
 from pathlib import Path
@@ -162,8 +163,9 @@ def focus(raw: Path = typer.Argument(..., help="raw or phase-history NetCDF file
           dx: Optional[float] = typer.Option(None), dy: Optional[float] = typer.Option(None),
           plane: Optional[str] = typer.Option(None, help="slant | ground (alone: the default grid in that plane)"),
           autofocus: Optional[str] = typer.Option(None, help="none | pga | min-entropy (on the image) | pulse (one phase per pulse)"),
-          kernel: Optional[str] = typer.Option(None, help="PGA kernel: pd | lumv | ev")):
-    """Focus a raw file into image.nc, metrics.json, figures and report.html."""
+          kernel: Optional[str] = typer.Option(None, help="PGA kernel: pd | lumv | ev"),
+          sicd: bool = typer.Option(False, "--sicd", help="also write the image as SICD (image.nitf), checked by sarkit")):
+    """Focus a raw file (.nc, .cphd or GOTCHA .mat) into image.nc, metrics.json, figures and report.html."""
     from ..io import read_raw
     from ..systems.airborne import focus_file
     from ..errors import ScenarioError
@@ -196,7 +198,48 @@ def focus(raw: Path = typer.Argument(..., help="raw or phase-history NetCDF file
     with _Bar() as bar:
         m = focus_file(ds, out_dir, algorithm=algorithm, window_name=window, grid=grid, progress=bar,
                        autofocus=autofocus, kernel=kernel, plane=plane)
+    if sicd:
+        _export_sicd(out_dir / "image.nc", out_dir / "image.nitf", None)
     _summary(m, out_dir)
+
+
+def _export_sicd(src: Path, dst: Path, origin: Optional[str]) -> None:
+    from ..io import check_sicd, read_image, write_sicd
+    img = read_image(src)
+    write_sicd(img, dst, origin=_origin(origin))
+    res = check_sicd(dst)
+    for w in res["warnings"]:
+        out.print(f"[yellow]sarkit warning:[/] {w}", highlight=False)
+    if res["errors"]:
+        for e in res["errors"]:
+            err.print(f"[red]sarkit error:[/] {e}", highlight=False)
+        raise typer.Exit(code=1)
+    out.print(f"wrote {dst} (SICD 1.3.0; sarkit consistency check: 0 errors)", highlight=False)
+
+
+def _origin(origin: Optional[str]):
+    from ..errors import ScenarioError
+    if origin is None:
+        return None
+    try:
+        llh = [float(v) for v in origin.split(",")]
+        assert len(llh) == 3 and abs(llh[0]) <= 90 and -180 <= llh[1] <= 360 and all(map(math.isfinite, llh))
+    except (ValueError, AssertionError):
+        raise ScenarioError("--origin", origin, "must be LAT,LON,HAE (deg, deg, m) with |LAT| <= 90") from None
+    return llh
+
+
+@app.command()
+@_guard
+def export(image: Path = typer.Argument(..., help="salkit image.nc"),
+           dst: Path = typer.Argument(..., help="SICD file to write (.nitf or .ntf)"),
+           origin: Optional[str] = typer.Option(None, help="scene centre as LAT,LON,HAE (deg, deg, m); default "
+                                                "the image's origin_llh, else 0,0,0")):
+    """Export a focused image as SICD 1.3.0 (NITF), metadata from the image and its collection."""
+    from ..errors import ScenarioError
+    if dst.suffix.lower() not in (".nitf", ".ntf"):
+        raise ScenarioError("dst", str(dst), "SICD files end in .nitf or .ntf")
+    _export_sicd(image, dst, origin)
 
 
 @app.command()
@@ -213,13 +256,7 @@ def convert(src: Path = typer.Argument(..., help="input: .nc (raw or phase histo
     suf = dst.suffix.lower()
     if suf not in PHASE_SUFFIXES:
         raise ScenarioError("dst", str(dst), f"suffix must be one of {', '.join(PHASE_SUFFIXES)}")
-    llh = None
-    if origin is not None:
-        try:
-            llh = [float(v) for v in origin.split(",")]
-            assert len(llh) == 3 and abs(llh[0]) <= 90 and -180 <= llh[1] <= 360
-        except (ValueError, AssertionError):
-            raise ScenarioError("--origin", origin, "must be LAT,LON,HAE with |LAT| <= 90 deg") from None
+    llh = _origin(origin)
     ds = read_phase_data(src)
     ph = range_compress(ds) if ds.attrs.get("salkit_kind") == "raw" else ds
     if suf == ".cphd":

@@ -217,7 +217,30 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, algorithm
                 update={"grid": g})}))
         except Exception:  # noqa: BLE001
             truth = None
-    return make_image_dataset(img, az, rg, plane, attrs, truth)
+    attrs["frequency_min"], attrs["frequency_max"] = float(ph.freq[0]), float(ph.freq[-1])
+    if "origin_llh" in ph.attrs:
+        attrs["origin_llh"] = np.asarray(ph.attrs["origin_llh"], np.float64)
+    out = make_image_dataset(img, az, rg, plane, attrs, truth)
+    return add_collection_geometry(out, raw, ph)
+
+
+def add_collection_geometry(image: xr.Dataset, raw: xr.Dataset, ph: PhaseHistory) -> xr.Dataset:
+    """Carry the per-pulse antenna positions and times of the collection with its image
+    (variables ``collection_position`` (pulse, xyz), m, and ``collection_time`` (pulse,), s), so
+    that exports (SICD) need no other file. Without pulse times in the data, the pulse index
+    times 1 ms stands in and ``collection_time_nominal = 1``."""
+    P = ph.positions.shape[0]
+    t = None
+    if "slow_time" in raw.coords and raw.sizes.get("slow_time") == P:
+        t = np.asarray(raw["slow_time"].values, np.float64)
+    nominal = t is None or raw.attrs.get("slow_time_units") == "pulse"
+    if nominal:
+        t = np.arange(P, dtype=np.float64) * 1e-3
+    image = image.assign(collection_position=(("pulse", "xyz"), ph.positions, {"units": "m"}),
+                         collection_time=(("pulse",), t, {"units": "s"}))
+    image = image.assign_coords(xyz=("xyz", ["x", "y", "z"]))
+    image.attrs["collection_time_nominal"] = int(nominal)
+    return image
 
 
 __all__ = ["ALGORITHMS", "PhaseHistory", "default_grid", "focus", "phase_history", "range_compress",

@@ -7,6 +7,7 @@ from .datasets import (describe, make_image_dataset, make_raw_dataset, open_data
 from .cphd import check_cphd, read_cphd, write_cphd
 from .gotcha import read_gotcha, write_gotcha
 from .ingest import normalise_phase_history, regularise_axis
+from .sicd import check_sicd, read_sicd, write_sicd
 
 PHASE_SUFFIXES = {".nc": "NetCDF", ".h5": "NetCDF", ".cphd": "CPHD", ".mat": "GOTCHA .mat"}
 
@@ -50,6 +51,6 @@ try:  # pragma: no cover - depends on the xarray version
 except Exception:  # noqa: BLE001
     pass
 
-__all__ = ["PHASE_SUFFIXES", "check_cphd", "normalise_phase_history", "read_cphd", "read_gotcha",
+__all__ = ["PHASE_SUFFIXES", "check_cphd", "check_sicd", "read_sicd", "write_sicd", "normalise_phase_history", "read_cphd", "read_gotcha",
            "read_phase_data", "regularise_axis", "write_cphd", "write_gotcha", "describe", "make_image_dataset", "make_raw_dataset", "open_dataset", "read_image",
            "read_raw", "write_dataset", "write_json_atomic", "write_text_atomic"]
