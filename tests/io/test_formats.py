@@ -58,6 +58,15 @@ def test_gotcha_af_corrections_applied(tmp_path, collection):
     assert _ccorr(img, focus(read_gotcha(tmp_path / "q.mat", apply_af=False), sc.processing)["image"].values) < 0.5
 
 
+def test_cphd_from_data_without_pulse_times(tmp_path, collection):
+    """A GOTCHA file has no pulse times: the CPHD written from it (nominal 1 kHz) is still consistent."""
+    sc, raw, img = collection
+    ds = read_gotcha(write_gotcha(range_compress(raw), tmp_path / "p.mat"))
+    p = write_cphd(ds, tmp_path / "p.cphd")
+    assert check_cphd(p) == {"errors": [], "warnings": []}
+    assert _ccorr(img, focus(read_cphd(p), sc.processing)["image"].values) >= 0.9999
+
+
 def test_unusable_files_refused(tmp_path):
     from scipy.io import savemat
     savemat(tmp_path / "a.mat", {"data": {"fp": np.ones((4, 3)), "freq": np.arange(4.0)}})

@@ -167,7 +167,9 @@ def write_cphd(ph: xr.Dataset, path: str | Path, origin=None, collector: str = "
     corners_l = np.array([[-half, -half, 0], [-half, half, 0], [half, half, 0], [half, -half, 0]])
     corners = wgs84.cartesian_to_geodetic(o_ecf + corners_l @ rot.T)
     n_grid = 1024
-    t_mid = float(t[ref_i])
+    t_ref = t + ref / c  # when each pulse's centre passes the SRP (CPHD signal model, monostatic)
+    t_mid = 0.5 * float(t_ref[0] + t_ref[-1])
+    dwell = float(t_ref[-1] - t_ref[0]) * (1 - 1e-9)  # within the vectors' reference times
     start = _dt.datetime(2000, 1, 1) + _dt.timedelta(seconds=0)
     mode = "SPOTLIGHT" if str(ph.attrs.get("mode", "spotlight")) == "spotlight" else "STRIPMAP"
     iacp = "".join(f'<IACP index="{i + 1}"><Lat>{_f(corners[i, 0])}</Lat><Lon>{_f(corners[i, 1])}</Lon></IACP>'
@@ -204,7 +206,7 @@ def write_cphd(ph: xr.Dataset, path: str | Path, origin=None, collector: str = "
 <Dwell><NumCODTimes>1</NumCODTimes><CODTime><Identifier>COD</Identifier>
 <CODTimePoly order1="0" order2="0"><Coef exponent1="0" exponent2="0">{_f(t_mid)}</Coef></CODTimePoly></CODTime>
 <NumDwellTimes>1</NumDwellTimes><DwellTime><Identifier>DWELL</Identifier>
-<DwellTimePoly order1="0" order2="0"><Coef exponent1="0" exponent2="0">{_f(float(t[-1] - t[0]))}</Coef></DwellTimePoly></DwellTime></Dwell>
+<DwellTimePoly order1="0" order2="0"><Coef exponent1="0" exponent2="0">{_f(dwell)}</Coef></DwellTimePoly></DwellTime></Dwell>
 <ReferenceGeometry/>
 </CPHD>"""
     root = et.fromstring(xml.encode())
