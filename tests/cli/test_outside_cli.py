@@ -73,3 +73,32 @@ def test_focus_with_sicd_and_export(tmp_path, raw_file):
     assert r.exit_code == 0 and "0 errors" in r.output, r.output
     r = runner.invoke(app, ["export", str(tmp_path / "s" / "image.nc"), str(tmp_path / "x.png")])
     assert r.exit_code == 2 and ".nitf or .ntf" in r.output
+
+
+@pytest.mark.parametrize("defect,msg", [
+    ("nonmonotonic", "strictly monotonic"),
+    ("shape", "'position' has shape"),
+    ("missing", "lacks the variable 'reference_range'"),
+])
+def test_unusable_phase_history_exits_2(tmp_path, raw_file, defect, msg):
+    import numpy as np
+    import xarray as xr
+    from salkit.focus import range_compress
+    from salkit.io import read_raw
+    ph = range_compress(read_raw(raw_file))
+    f = ph["frequency"].values.copy()
+    pos = ph["position"].values
+    if defect == "nonmonotonic":
+        f[5], f[6] = f[6], f[5]
+    if defect == "shape":
+        pos = pos[:, :2]
+    ds = xr.Dataset({"signal": (("slow_time", "frequency"), ph["signal"].values),
+                     "position": (("slow_time", "c"), pos),
+                     "reference_range": (("slow_time",), ph["reference_range"].values)},
+                    coords={"frequency": f}, attrs={"salkit_kind": "phase_history"})
+    if defect == "missing":
+        ds = ds.drop_vars("reference_range")
+    p = write_dataset(ds, tmp_path / "bad.nc")
+    r = runner.invoke(app, ["focus", str(p), "--out", str(tmp_path / "o")])
+    assert r.exit_code == 2 and msg in " ".join(r.output.split()), r.output
+    assert not isinstance(r.exception, Exception) or isinstance(r.exception, SystemExit)
