@@ -32,3 +32,14 @@ class SamplingError(ScenarioError):
 
 class DataFileError(SalkitError):
     """A data file is missing, truncated, of the wrong kind or holds invalid values."""
+
+
+class EnvironmentProblem(SalkitError):
+    """The environment, not the input, stops the work: permissions, a full disk, a busy folder,
+    a scheduler that cannot be reached. Exit status 1."""
+
+    exit_code = 1
+
+
+class ResourceError(SalkitError):
+    """A job too big for the machine, refused before any work (exit status 2, with the numbers)."""

@@ -26,6 +26,7 @@ import numpy as np
 import scipy.fft as sfft
 
 from ..errors import ScenarioError
+from ..resources import check_memory
 from .turbulence import psd
 
 
@@ -195,8 +196,15 @@ def phase_screens(n: int, dx: float, r0: float, count: int = 1, seed: int | None
         raise ScenarioError("outer_scale", outer_scale, "must be > 0")
     if inner_scale is not None and not inner_scale >= 0:
         raise ScenarioError("inner_scale", inner_scale, "must be >= 0")
-    rng = rng if rng is not None else np.random.default_rng(seed)
+    if outer_scale is not None and inner_scale is not None and not inner_scale < outer_scale:
+        raise ScenarioError("inner_scale", inner_scale, f"must be below the outer scale {outer_scale} m")
+    if rng is None and seed is not None and (not isinstance(seed, (int, np.integer)) or seed < 0):
+        raise ScenarioError("seed", seed, "must be an integer >= 0")
     m = sfft.next_fast_len(max(int(math.ceil(pad * n)), n))
+    need = float(count) * n * n * np.dtype(dtype).itemsize + 80.0 * m * m * max(1, min((count + 1) // 2, 2 ** 25 // (m * m)))
+    check_memory(need, f"{count} phase screen(s) of {n} x {n}", "reduce --n or --count (screens can be made in "
+                 "several files)")
+    rng = rng if rng is not None else np.random.default_rng(seed)
     amp = _spectrum_amplitudes(m, dx, r0, outer_scale, inner_scale)
     sfx, sfy, samp = _subharmonic_cells(m, dx, r0, outer_scale, inner_scale, levels)
     tilt = _residual_tilt_std(m, dx, r0, outer_scale, inner_scale, levels) if levels else 0.0

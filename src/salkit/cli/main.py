@@ -15,6 +15,7 @@ from typing import List, Optional
 
 import typer
 from rich.console import Console
+from rich.markup import escape as rich_escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
 from ..errors import SalkitError
@@ -34,18 +35,71 @@ def _examples_dir() -> Path:
     return EXAMPLES_DIR
 
 
+_STATE = {"debug": False}
+
+
+def _say(msg: str) -> None:
+    err.print(f"[bold red]error:[/] {rich_escape(msg)}", highlight=False, markup=True, soft_wrap=True)
+
+
 def _guard(fn):
+    """Exit 2 for bad input and usage, 1 for the environment (permissions, a full disk, memory, a
+    busy folder), 130 when interrupted, each with one line; ``--debug`` shows the traceback."""
     @functools.wraps(fn)
     def wrapper(*a, **k):
         try:
             return fn(*a, **k)
+        except (typer.Exit, typer.Abort, SystemExit):
+            raise
         except SalkitError as e:
-            err.print(f"[bold red]error:[/] {e}", highlight=False, markup=True, soft_wrap=True)
+            if _STATE["debug"]:
+                raise
+            _say(str(e))
             raise typer.Exit(code=e.exit_code)
         except KeyboardInterrupt:
-            err.print("interrupted")
+            err.print("interrupted: nothing was left behind")
             raise typer.Exit(code=130)
+        except MemoryError:
+            if _STATE["debug"]:
+                raise
+            _say("out of memory (the estimate before the work was too low); set --max-memory lower or reduce the job")
+            raise typer.Exit(code=1)
+        except OSError as e:
+            if _STATE["debug"]:
+                raise
+            import errno as _errno
+            why = "no space left on the device" if e.errno == _errno.ENOSPC else (e.strerror or str(e))
+            _say(f"{why}{': ' + str(e.filename) if getattr(e, 'filename', None) else ''}")
+            raise typer.Exit(code=1)
+        except Exception as e:  # noqa: BLE001 - the promise: no traceback without --debug
+            if _STATE["debug"]:
+                raise
+            _say(f"internal error ({type(e).__name__}: {e}); please report it; --debug shows the traceback")
+            raise typer.Exit(code=1)
     return wrapper
+
+
+def _version(value: bool):
+    if value:
+        from .. import __version__
+        out.print(f"salkit {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _main(debug: bool = typer.Option(False, "--debug", help="show tracebacks"),
+          max_memory: Optional[str] = typer.Option(None, "--max-memory", help="refuse jobs whose estimated peak "
+                                                   "memory exceeds this (e.g. 8GiB); default: what is available"),
+          version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
+                                       help="print the version and exit")):
+    """salkit: synthetic aperture ladar simulation, imaging and metrics."""
+    _STATE["debug"] = debug
+    from ..resources import parse_size, set_limit
+    try:
+        set_limit(parse_size(max_memory) if max_memory is not None else None)
+    except SalkitError as e:
+        _say(str(e))
+        raise typer.Exit(code=2)
 
 
 class _Bar:
@@ -98,27 +152,50 @@ def run(scenario: Path = typer.Argument(..., help="scenario YAML"),
         set_: List[str] = typer.Option([], "--set", help="override a field: key.path=value"),
         algorithm: Optional[str] = typer.Option(None, help="override processing.algorithm"),
         workers: Optional[int] = typer.Option(None, help="Dask workers of a local cluster (stacking runs)"),
-        scheduler: Optional[str] = typer.Option(None, help="address of an existing Dask scheduler")):
-    """Simulate, focus, measure, draw and report one scenario."""
+        scheduler: Optional[str] = typer.Option(None, help="address of an existing Dask scheduler"),
+        overwrite: bool = typer.Option(False, "--overwrite", help="replace a non-empty --out once the new run is complete"),
+        dry_run: bool = typer.Option(False, "--dry-run", help="validate the scenario, sampling and memory; write nothing")):
+    """Simulate, focus, measure, draw and report one scenario (into a folder that is complete or absent)."""
+    from ..io.runfolder import RunFolder
     from ..params import load_scenario
     from ..systems.airborne import run as run_system
     sets = list(set_) + ([f"processing.algorithm={algorithm}"] if algorithm else [])
-    sets += [f"stack.workers={workers}"] if workers else []
-    sets += [f"stack.scheduler={scheduler}"] if scheduler else []
+    sets += [f"stack.workers={workers}"] if workers is not None else []
+    sets += [f"stack.scheduler={scheduler}"] if scheduler is not None else []
     sc = load_scenario(scenario, sets)
+    _preflight(sc)
+    if dry_run:
+        out.print(f"{scenario}: valid; sampling and memory checks passed; nothing written", highlight=False)
+        return
+    with RunFolder(out_dir, overwrite=overwrite, keep_on_failure=("stack.zarr",)) as tmp:
+        if sc.experiment is not None:
+            from ..systems import run_experiment
+            with _Bar() as bar:
+                m = run_experiment(sc, tmp, progress=bar)
+        else:
+            with _Bar() as bar:
+                m = run_system(sc, tmp, progress=bar)
+    if sc.experiment is not None:
+        out.print(f"report: {Path(out_dir) / 'report.html'}")
+        return
+    _summary(m, out_dir)
+
+
+def _preflight(sc) -> None:
+    """Every check that needs no work: sampling (and the down-looking design), memory."""
     if sc.is_downlooking:
         from ..geometry.downlooking import design
         for w in design(sc.experiment).warnings:  # sampling errors stop here, before any work
             out.print(f"[yellow]warning:[/] {w}", highlight=False)
-    if sc.experiment is not None:
-        from ..systems import run_experiment
-        with _Bar() as bar:
-            m = run_experiment(sc, out_dir, progress=bar)
-        out.print(f"report: {Path(out_dir) / 'report.html'}")
         return
-    with _Bar() as bar:
-        m = run_system(sc, out_dir, progress=bar)
-    _summary(m, out_dir)
+    from ..resources import check_memory
+    from ..simulate import memory_estimate
+    need, what = memory_estimate(sc, focus=sc.processing is not None)
+    check_memory(need, what, "reduce receiver.adc_rate, platform.aperture_length, waveform.prf or the grid "
+                 "(processing.grid.nx, ny)")
+    if sc.experiment is None:
+        from ..geometry import build_collection, check_sampling
+        check_sampling(sc, build_collection(sc))
 
 
 def _summary(m: dict, out_dir: Path):
@@ -135,12 +212,15 @@ def _summary(m: dict, out_dir: Path):
 @_guard
 def simulate(scenario: Path = typer.Argument(..., help="scenario YAML"),
              out: Path = typer.Option(..., "--out", help="raw NetCDF file to write"),
-             set_: List[str] = typer.Option([], "--set", help="override a field: key.path=value")):
+             set_: List[str] = typer.Option([], "--set", help="override a field: key.path=value"),
+             overwrite: bool = typer.Option(False, "--overwrite", help="replace an existing file")):
     """Simulate raw dechirped data and write it to a NetCDF file."""
     from ..params import load_scenario
     from ..simulate import simulate as sim
     from ..io import write_dataset
+    _check_out_file(out, overwrite)
     sc = load_scenario(scenario, list(set_))
+    _preflight(sc)
     if sc.is_downlooking:
         from ..systems.downlooking import simulate_point_raw
         raw = simulate_point_raw(sc)
@@ -151,6 +231,16 @@ def simulate(scenario: Path = typer.Argument(..., help="scenario YAML"),
         raw = sim(sc, progress=lambda d, n: bar("simulate", d, n))
     write_dataset(raw, out)
     globals()["out"].print(f"wrote {out} ({raw.sizes['slow_time']} pulses x {raw.sizes['fast_time']} samples)")
+
+
+def _check_out_file(path: Path, overwrite: bool, field: str = "--out") -> None:
+    from ..errors import ScenarioError
+    if str(path).strip() in ("", "."):
+        raise ScenarioError(field, str(path), "must name a file")
+    if path.is_dir():
+        raise ScenarioError(field, str(path), "is a folder; give a file name")
+    if path.exists() and not overwrite:
+        raise ScenarioError(field, str(path), "exists; pass --overwrite to replace it")
 
 
 @app.command()
@@ -164,7 +254,8 @@ def focus(raw: Path = typer.Argument(..., help="raw or phase-history NetCDF file
           plane: Optional[str] = typer.Option(None, help="slant | ground (alone: the default grid in that plane)"),
           autofocus: Optional[str] = typer.Option(None, help="none | pga | min-entropy (on the image) | pulse (one phase per pulse)"),
           kernel: Optional[str] = typer.Option(None, help="PGA kernel: pd | lumv | ev"),
-          sicd: bool = typer.Option(False, "--sicd", help="also write the image as SICD (image.nitf), checked by sarkit")):
+          sicd: bool = typer.Option(False, "--sicd", help="also write the image as SICD (image.nitf), checked by sarkit"),
+          overwrite: bool = typer.Option(False, "--overwrite", help="replace a non-empty --out once the new run is complete")):
     """Focus a raw file (.nc, .cphd or GOTCHA .mat) into image.nc, metrics.json, figures and report.html."""
     from ..io import read_raw
     from ..systems.airborne import focus_file
@@ -182,10 +273,12 @@ def focus(raw: Path = typer.Argument(..., help="raw or phase-history NetCDF file
         probe = None
     else:
         probe = open_dataset(raw)
+    from ..io.runfolder import RunFolder
     if probe is not None and probe.attrs.get("salkit_kind") == "raw_downlooking":
         from ..systems.downlooking import focus_raw_file
-        focus_file_dl = focus_raw_file(probe, out_dir)
-        globals()["out"].print(f"wrote {focus_file_dl}")
+        with RunFolder(out_dir, overwrite=overwrite) as tmp:
+            focus_raw_file(probe, tmp)
+        globals()["out"].print(f"wrote {Path(out_dir) / 'image.nc'}")
         return
     if plane is not None and plane not in ("slant", "ground"):
         raise ScenarioError("--plane", plane, "must be one of slant, ground")
@@ -195,11 +288,13 @@ def focus(raw: Path = typer.Argument(..., help="raw or phase-history NetCDF file
         src = "the scenario stored in the file" if "scenario" in ds.attrs else "the default (256 x 256 at 0.8 of the resolution)"
         out.print(f"--plane {plane} without --nx/--ny/--dx/--dy: grid size and spacing from {src}, "
                   f"in the {plane} plane", highlight=False)
-    with _Bar() as bar:
-        m = focus_file(ds, out_dir, algorithm=algorithm, window_name=window, grid=grid, progress=bar,
-                       autofocus=autofocus, kernel=kernel, plane=plane)
-    if sicd:
-        _export_sicd(out_dir / "image.nc", out_dir / "image.nitf", None)
+    RunFolder(out_dir, overwrite=overwrite)._check_target()  # before any work
+    with RunFolder(out_dir, overwrite=overwrite) as tmp:
+        with _Bar() as bar:
+            m = focus_file(ds, tmp, algorithm=algorithm, window_name=window, grid=grid, progress=bar,
+                           autofocus=autofocus, kernel=kernel, plane=plane)
+        if sicd:
+            _export_sicd(tmp / "image.nc", tmp / "image.nitf", None)
     _summary(m, out_dir)
 
 
@@ -286,9 +381,11 @@ def screen(n: int = typer.Option(..., "--n", help="screen size, samples"),
            seed: int = typer.Option(0, "--seed"),
            outer_scale: Optional[float] = typer.Option(None, "--outer-scale", help="von Karman L0, m"),
            inner_scale: Optional[float] = typer.Option(None, "--inner-scale", help="inner scale l0, m"),
-           out: Path = typer.Option(..., "--out", help="NetCDF file to write (a PNG of screen 0 beside it)")):
+           out: Path = typer.Option(..., "--out", help="NetCDF file to write (a PNG of screen 0 beside it)"),
+           overwrite: bool = typer.Option(False, "--overwrite", help="replace an existing file")):
     """Generate turbulence phase screens (rad) into a NetCDF file, with a picture of the first."""
     from ..atmosphere import phase_screens
+    _check_out_file(out, overwrite)
     from ..io.screens import write_screens
     phi = phase_screens(n, dx, r0, count=count, seed=seed, outer_scale=outer_scale, inner_scale=inner_scale)
     nc, png = write_screens(phi, dx, out, r0=r0, seed=seed, outer_scale=outer_scale, inner_scale=inner_scale)
@@ -322,7 +419,22 @@ def info(path: Path = typer.Argument(..., help="a salkit NetCDF file or a scenar
 
 @app.command()
 @_guard
-def examples(copy_to: Optional[Path] = typer.Option(None, "--copy", help="copy the examples into this folder")):
+def verify(folder: Path = typer.Argument(..., help="an output folder of salkit run / focus")):
+    """Check every file of an output folder against its manifest.json (size and SHA-256)."""
+    from ..errors import DataFileError
+    from ..io.runfolder import verify as verify_folder
+    r = verify_folder(folder)
+    for x in r["extra"]:
+        out.print(f"[yellow]not in the manifest:[/] {x}", highlight=False)
+    if not r["ok"]:
+        raise DataFileError(f"{folder}: " + "; ".join(r["problems"]))
+    out.print(f"{folder}: {r['files']} files match manifest.json", highlight=False)
+
+
+@app.command()
+@_guard
+def examples(copy_to: Optional[Path] = typer.Option(None, "--copy", help="copy the examples into this folder"),
+             overwrite: bool = typer.Option(False, "--overwrite", help="replace files that differ from the shipped ones")):
     """List the shipped example scenarios (and optionally copy them)."""
     import yaml
     d = _examples_dir()
@@ -334,15 +446,35 @@ def examples(copy_to: Optional[Path] = typer.Option(None, "--copy", help="copy t
             desc = "(unreadable)"
         out.print(f"[bold]{f.name}[/]  {desc}", highlight=False)
     if copy_to is not None:
-        copy_to.mkdir(parents=True, exist_ok=True)
+        from ..io.datasets import write_text_atomic
+        if copy_to.exists() and not copy_to.is_dir():
+            from ..errors import ScenarioError
+            raise ScenarioError("--copy", str(copy_to), "names an existing file; give a folder")
+        copied, kept = 0, []
         for f in files:
-            shutil.copy2(f, copy_to / f.name)
-        out.print(f"copied {len(files)} examples to {copy_to}")
+            dst = copy_to / f.name
+            text = f.read_text()
+            if dst.exists() and dst.read_text() != text and not overwrite:
+                kept.append(f.name)
+                continue
+            write_text_atomic(dst, text)
+            copied += 1
+        out.print(f"copied {copied} examples to {copy_to}")
+        if kept:
+            out.print(f"[yellow]kept[/] {len(kept)} edited file(s) ({', '.join(kept)}); --overwrite replaces them",
+                      highlight=False)
+
+
+def _sigterm(signum, frame):  # pragma: no cover - exercised by a subprocess test
+    raise KeyboardInterrupt(f"signal {signum}")
 
 
 def main():  # pragma: no cover
-    """Entry point of the ``salkit`` command."""
-    app()
+    """Entry point of the ``salkit`` command: SIGTERM unwinds like Ctrl-C, so that nothing is left
+    half-written."""
+    import signal
+    signal.signal(signal.SIGTERM, _sigterm)
+    return app()
 
 
 if __name__ == "__main__":  # pragma: no cover

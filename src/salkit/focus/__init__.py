@@ -16,6 +16,7 @@ from ..geometry.collection import (beam_gain_table, grid_axes, plane_from, truth
 from ..io.datasets import make_image_dataset
 from ..io.ingest import normalise_phase_history
 from ..params.models import Grid, Processing
+from ..resources import check_memory
 from ..signals.windows import window, window_ipr
 from .backprojection import backproject
 from .omegak import omegak as omega_k  # keep salkit.focus.omegak the module
@@ -95,6 +96,43 @@ def default_grid(ph: PhaseHistory, n: int = 256, plane: str = "slant") -> Grid:
     return Grid(nx=n, ny=n, dx=0.8 * res["azimuth"], dy=0.8 * res["range"], plane=plane)
 
 
+def memory_estimate(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str = "bp",
+                    raw: bool = True, cover_pixels: int | None = None) -> tuple[float, str]:
+    """Peak memory of focusing, bytes, from the sizes.
+
+    The signal (complex64, pulses x samples) once, and from raw data the deskew's 2N-point FFT
+    buffers and the phase history (6 more); the image's float32 accumulators and complex64 output
+    (24 bytes a pixel); PFA adds its formed (cover) grid and K-space buffer, omega-k its
+    Stolt-interpolated spectrum.
+
+    Parameters
+    ----------
+    n_pulses, n_samples : int
+        Signal shape.
+    nx, ny : int
+        Output grid, pixels.
+    algorithm : {"bp", "pfa", "omegak"}
+    raw : bool
+        Dechirped fast-time data (deskewed here) rather than a phase history.
+    cover_pixels : int, optional
+        PFA's formed grid when larger than nx x ny.
+
+    Returns
+    -------
+    (float, str)
+        Bytes, and the sizes that drive it.
+    """
+    sig = 8.0 * n_pulses * n_samples
+    px = float(nx) * ny
+    need = sig * (7 if raw else 2) + 24.0 * px
+    if algorithm == "pfa":
+        need += 24.0 * max(cover_pixels or 0, px) + sig
+    elif algorithm == "omegak":
+        need += 4 * sig + 16.0 * px
+    return need, (f"focusing {n_pulses} pulses x {n_samples} samples onto {nx} x {ny} pixels "
+                  f"({algorithm})")
+
+
 def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, algorithm: str | None = None,
           grid: Grid | None = None, window_name: str | None = None, plane: str | None = None,
           progress: Optional[Callable[[int, int], None]] = None) -> xr.Dataset:
@@ -139,6 +177,12 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, algorithm
             scenario = None
     if processing is None:
         processing = scenario.processing if scenario is not None else None
+    g0 = grid or (processing.grid if processing else None)
+    sig = raw["signal"]
+    need, what = memory_estimate(sig.shape[0], sig.shape[1], g0.nx if g0 else 256, g0.ny if g0 else 256,
+                                 algorithm or (processing.algorithm if processing else "bp"),
+                                 raw=raw.attrs.get("salkit_kind") == "raw")
+    check_memory(need, what, "use a smaller grid (--nx --ny) or fewer pulses")
     ph = phase_history(raw, processing.chirp_correction if processing is not None else "none")
     alg = algorithm or (processing.algorithm if processing else "bp")
     if alg not in ALGORITHMS:
@@ -243,7 +287,7 @@ def add_collection_geometry(image: xr.Dataset, raw: xr.Dataset, ph: PhaseHistory
     return image
 
 
-__all__ = ["ALGORITHMS", "PhaseHistory", "default_grid", "focus", "phase_history", "range_compress",
+__all__ = ["ALGORITHMS", "PhaseHistory", "default_grid", "focus", "memory_estimate", "phase_history", "range_compress",
            "theory_resolution"]
 
 

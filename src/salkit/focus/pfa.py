@@ -154,6 +154,10 @@ def pfa(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.n
                             f"({ext['azimuth']:.4g} m x {ext['range']:.4g} m, limited by "
                             f"{ext['limited_by']['azimuth']}/{ext['limited_by']['range']}) and crop, more "
                             f"than {MAX_COVER_PIXELS} pixels; use --algorithm bp or a coarser grid")
+    from ..resources import check_memory
+    check_memory(24.0 * az2.size * rg2.size + 16.0 * ph.size, f"PFA on {az2.size} x {rg2.size} pixels (the "
+                 f"{ext['azimuth']:.4g} m x {ext['range']:.4g} m illuminated scene at the grid's spacing)",
+                 "use --algorithm bp or a coarser grid")
     img, inf = pfa_on_grid(ph, freq, positions, ref_range, plane, az2, rg2, win_az, win_rg, half)
     info.update(inf)
     info.update({"cover_azimuth": az2.size, "cover_range": rg2.size,

@@ -152,6 +152,36 @@ def scene_extent_x(scenario: Scenario) -> tuple[float, float]:
     return (min(xs), max(xs)) if xs else (0.0, 0.0)
 
 
+def pulse_count(scenario: Scenario) -> int:
+    """Number of pulses :func:`build_collection` makes, computed without building anything (so a
+    memory guard can run first).
+
+    Parameters
+    ----------
+    scenario : Scenario
+
+    Returns
+    -------
+    int
+    """
+    p, w = scenario.platform, scenario.waveform
+    if p.positions is not None:
+        return len(p.positions)
+    L = _aperture_length(scenario)
+    return max(int(math.floor(L / (p.speed / w.prf))) + 1, 2)
+
+
+def _aperture_length(scenario: Scenario) -> float:
+    p, w = scenario.platform, scenario.waveform
+    L = p.aperture_length
+    if L is None and p.mode == "spotlight":  # square resolution cell by default
+        L = w.wavelength * _centre_range(scenario) / (2.0 * w.range_resolution)
+    elif L is None:
+        x0, x1 = scene_extent_x(scenario)
+        L = (x1 - x0) + 1.2 * footprint(scenario)
+    return float(L)
+
+
 def build_collection(scenario: Scenario) -> Collection:
     """Per-pulse positions, reference ranges and beam pointing of a scenario.
 
@@ -177,17 +207,7 @@ def build_collection(scenario: Scenario) -> Collection:
         R0 = p.slant_range
         u_c = -R0 * math.tan(math.radians(p.squint_deg))
         du = p.speed / w.prf
-        if p.mode == "spotlight":
-            L = p.aperture_length
-            if L is None:  # square resolution cell by default
-                L = w.wavelength * _centre_range(scenario) / (2.0 * w.range_resolution)
-        else:
-            L = p.aperture_length
-            if L is None:
-                x0, x1 = scene_extent_x(scenario)
-                L = (x1 - x0) + 1.2 * footprint(scenario)
-        n = int(math.floor(L / du)) + 1
-        n = max(n, 2)
+        n = pulse_count(scenario)
         u = u_c + (np.arange(n) - (n - 1) / 2.0) * du
         t = (u - u_c) / p.speed
         pos = closest[None, :] + u[:, None] * d[None, :]

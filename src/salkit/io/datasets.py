@@ -169,19 +169,62 @@ def atomic_path(path: str | Path, suffix: str = ".tmp"):
         raise
 
 
+def _checksum_encoding(ds: xr.Dataset) -> dict:
+    """fletcher32 on every array variable (numbers and complex; not strings or scalars)."""
+    enc = {}
+    for name, v in ds.variables.items():
+        if v.ndim >= 1 and v.dtype.kind in "biufc" and v.size > 0:
+            enc[name] = {"fletcher32": True}
+    return enc
+
+
 def write_dataset(ds: xr.Dataset, path: str | Path) -> Path:
-    """Write ``ds`` to NetCDF4/HDF5 atomically (temporary file in the same folder, then rename)."""
-    with atomic_path(path) as tmp, warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        ds.to_netcdf(tmp, engine="h5netcdf", invalid_netcdf=True)
+    """Write ``ds`` to NetCDF4/HDF5 atomically (temporary file in the same folder, then rename),
+    with a fletcher32 checksum on every array variable, so that corruption is detected on reading.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+    path : str or Path
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    EnvironmentProblem
+        The file cannot be written (permissions, a full disk); nothing is left behind.
+    """
+    from ..errors import EnvironmentProblem
+    try:
+        with atomic_path(path) as tmp, warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            ds.to_netcdf(tmp, engine="h5netcdf", invalid_netcdf=True, encoding=_checksum_encoding(ds))
+    except OSError as e:
+        raise EnvironmentProblem(f"cannot write {path}: {_os_reason(e)}") from None
     return Path(path)
 
 
+def _os_reason(e: BaseException) -> str:
+    import errno as _errno
+    for x in (e, getattr(e, "__cause__", None), getattr(e, "__context__", None)):
+        if isinstance(x, OSError) and x.errno:
+            if x.errno == _errno.ENOSPC:
+                return "no space left on the device"
+            return os.strerror(x.errno)
+    return str(e) or type(e).__name__
+
+
 def write_text_atomic(path: str | Path, text: str) -> Path:
-    """Write a text file atomically."""
-    with atomic_path(path) as tmp:
-        with open(tmp, "w") as fh:
-            fh.write(text)
+    """Write a text file atomically (EnvironmentProblem when the disk or permissions stop it)."""
+    from ..errors import EnvironmentProblem
+    try:
+        with atomic_path(path) as tmp:
+            with open(tmp, "w") as fh:
+                fh.write(text)
+    except OSError as e:
+        raise EnvironmentProblem(f"cannot write {path}: {_os_reason(e)}") from None
     return Path(path)
 
 
@@ -210,9 +253,30 @@ def open_dataset(path: str | Path) -> xr.Dataset:
         with xr.open_dataset(p, engine="h5netcdf") as ds:
             ds = ds.load()
     except Exception as err:  # noqa: BLE001 - truncated/corrupt files raise many types
+        bad = _corrupt_variable(p)
+        if bad is not None:
+            raise DataFileError(f"{p}: variable '{bad}' fails its checksum (fletcher32) or cannot be decoded: "
+                                "the file is corrupted") from None
         raise DataFileError(f"{p}: cannot be read as NetCDF4/HDF5 (truncated or corrupt?): "
                             f"{type(err).__name__}: {err}") from None
     return ds
+
+
+def _corrupt_variable(p: Path) -> str | None:
+    """Name of the first HDF5 dataset in ``p`` that cannot be read (checksum failure), if any."""
+    try:
+        import h5py
+        with h5py.File(p, "r") as f:
+            names = []
+            f.visititems(lambda n, o: names.append(n) if isinstance(o, h5py.Dataset) else None)
+            for n in names:
+                try:
+                    f[n][()]
+                except Exception:  # noqa: BLE001
+                    return n
+    except Exception:  # noqa: BLE001 - not even HDF5
+        return None
+    return None
 
 
 def _require(ds: xr.Dataset, p, names, kind):

@@ -403,6 +403,14 @@ class StackSettings(_Frozen):
     workers: int = Field(default=2, ge=1, le=64)
     scheduler: Optional[str] = Field(default=None, description="address of an existing Dask scheduler")
 
+    @field_validator("scheduler")
+    @classmethod
+    def _address(cls, v):
+        import re
+        if v is not None and not re.fullmatch(r"(tcp|tls|ws|wss|ucx|inproc)://[^\s/:]+(:\d{1,5})?|[^\s/:]+:\d{1,5}", v):
+            raise ValueError(f"scheduler address {v!r} must look like tcp://HOST:PORT (or HOST:PORT)")
+        return v
+
 
 class SpaceborneExperiment(_Frozen):
     """Seed 001: a GEO target seen from a lower coplanar circular orbit near closest approach."""

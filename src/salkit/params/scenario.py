@@ -76,10 +76,12 @@ def apply_overrides(data: Mapping[str, Any], overrides: Iterable[str]) -> dict:
                     node = node[int(key)]
                 except (ValueError, IndexError):
                     raise ScenarioError(".".join(keys[:i + 1]), key, "is not a valid list index") from None
-            else:
+            elif isinstance(node, dict):
                 if node.get(key) is None:
                     node[key] = {}
                 node = node[key]
+            else:
+                raise ScenarioError(".".join(keys[:i]), node, "is a value, not a section")
         last = keys[-1]
         if isinstance(node, list):
             try:
@@ -96,12 +98,20 @@ def apply_overrides(data: Mapping[str, Any], overrides: Iterable[str]) -> dict:
 def read_yaml(path: str | Path) -> dict:
     """Read a YAML mapping from ``path`` with clear errors."""
     p = Path(path)
+    if p.is_dir():
+        raise ScenarioError("scenario", str(p), "is a folder, not a YAML file")
     if not p.is_file():
         raise ScenarioError("scenario", str(p), "file does not exist")
     try:
-        data = yaml.safe_load(p.read_text())
+        data = yaml.safe_load(p.read_text(encoding="utf-8"))
+    except UnicodeDecodeError as err:
+        raise ScenarioError("scenario", str(p), f"is not UTF-8 text (byte {err.start}: {err.reason}); "
+                            "a scenario is a YAML file") from None
     except yaml.YAMLError as err:
         raise ScenarioError("scenario", str(p), f"is not valid YAML ({err})") from None
+    except OSError as err:
+        from ..errors import EnvironmentProblem
+        raise EnvironmentProblem(f"cannot read {p}: {err.strerror or err}") from None
     if not isinstance(data, dict):
         raise ScenarioError("scenario", str(p), "must hold a YAML mapping")
     return data

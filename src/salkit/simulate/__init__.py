@@ -9,6 +9,7 @@ import xarray as xr
 
 from ..geometry.collection import (Collection, beam_gain_table, build_collection,
                                    resolution_theory)
+from ..resources import check_memory
 from ..geometry.sampling import check_sampling, n_fast_samples
 from ..io.datasets import make_raw_dataset
 from ..params.models import Noise, Scenario
@@ -131,6 +132,47 @@ def photon_noise(signal: np.ndarray, noise: Noise, rng: np.random.Generator) -> 
     return signal
 
 
+def memory_estimate(scenario: Scenario, focus: bool = False) -> tuple[float, str]:
+    """Peak memory of simulating a scenario (and with ``focus`` of focusing it too), bytes.
+
+    From the pulse count (:func:`~salkit.geometry.collection.pulse_count`, nothing built), an upper
+    bound on the samples per pulse ((ADC gate or pulse width) x ADC rate + 1) and the scatterer
+    count: the complex64 signal twice (noise, the dataset), the per-pulse geometry, the scatterers;
+    focusing adds the deskew buffers (2N-point FFTs in and out, the phase history: 6 signals more)
+    and the image (:func:`salkit.focus.memory_estimate`).
+
+    Parameters
+    ----------
+    scenario : Scenario
+    focus : bool
+        Include focusing the result.
+
+    Returns
+    -------
+    (float, str)
+        Bytes, and the sizes that drive it (for messages).
+    """
+    from ..geometry.collection import pulse_count
+    P = pulse_count(scenario)
+    gate = scenario.receiver.gate or scenario.waveform.pulse_width
+    N = int(gate * scenario.receiver.adc_rate) + 1
+    sc = scenario.scene
+    n_scat = len(sc.points)
+    if sc.extended is not None:
+        n_scat += int((sc.extended.extent[0] / sc.extended.spacing + 1) * (sc.extended.extent[1] / sc.extended.spacing + 1))
+    sig = 8.0 * P * N
+    need = 2 * sig + 200.0 * P + 48.0 * n_scat
+    what = f"simulating {P} pulses x {N} samples ({sig / 2 ** 30:.3g} GiB of signal), {n_scat} scatterers"
+    if focus and scenario.processing is not None:
+        from ..focus import memory_estimate as focus_estimate
+        g = scenario.processing.grid
+        f_need, _ = focus_estimate(P, N, g.nx, g.ny, scenario.processing.algorithm, raw=True)
+        need = max(need, f_need + sig)
+        what = (f"simulating and focusing {P} pulses x {N} samples ({sig / 2 ** 30:.3g} GiB of signal) onto "
+                f"{g.nx} x {g.ny} pixels")
+    return need, what
+
+
 def signal_scale(scenario: Scenario, collection: Collection, n_samples: int) -> float:
     """Amplitude per sample of a unit-reflectance scatterer, in shot-noise units when noise is on.
 
@@ -201,6 +243,9 @@ def simulate(scenario: Scenario, progress: ProgressFn = None, noise: bool | None
     xarray.Dataset
         Raw data in the format of ``docs/data-format.md``: complex64 ``signal`` (pulse, sample).
     """
+    need, what = memory_estimate(scenario)
+    check_memory(need, what, "reduce receiver.adc_rate, the aperture (platform.aperture_length, prf) or the "
+                 "scene's scatterer count")
     col = build_collection(scenario)
     check_sampling(scenario, col)
     rng = rng if rng is not None else np.random.default_rng(scenario.seed)

@@ -157,8 +157,9 @@ def run_stack(base: Scenario, squints, store, scheduler: str | None = None,
                                    dashboard_address=None)
             client = Client(cluster)
     except (OSError, TimeoutError) as err:
-        raise SalkitError(f"--scheduler {scheduler}: no Dask scheduler answers there ({type(err).__name__}); "
-                          "nothing was written") from None
+        from ..errors import EnvironmentProblem
+        raise EnvironmentProblem(f"--scheduler {scheduler}: no Dask scheduler answers there "
+                                 f"({type(err).__name__})") from None
     try:
         squints = [float(q) for q in squints]
         count = len(squints)

@@ -1,0 +1,124 @@
+"""Memory guard: estimate a job's peak memory from its sizes and refuse it, with the numbers,
+before any work when it would not fit (never let the kernel's out-of-memory killer decide).
+
+The limit is the memory available now (``MemAvailable`` of /proc/meminfo, and the cgroup's
+``memory.max`` less ``memory.current`` when smaller), or what ``--max-memory`` / the environment
+variable ``SALKIT_MAX_MEMORY`` set, whichever is smaller.
+"""
+from __future__ import annotations
+
+import os
+import re
+
+from .errors import ResourceError, ScenarioError
+
+_LIMIT: int | None = None
+_UNITS = {"": 1, "b": 1, "k": 1e3, "kb": 1e3, "m": 1e6, "mb": 1e6, "g": 1e9, "gb": 1e9, "t": 1e12, "tb": 1e12,
+          "kib": 2 ** 10, "mib": 2 ** 20, "gib": 2 ** 30, "tib": 2 ** 40}
+
+
+def parse_size(text: str, field: str = "--max-memory") -> int:
+    """Bytes from "8GiB", "512 MB", "2e9".
+
+    Parameters
+    ----------
+    text : str
+    field : str
+        Name for the error message.
+
+    Returns
+    -------
+    int
+        Bytes.
+
+    Raises
+    ------
+    ScenarioError
+        Unparseable or not positive.
+
+    Examples
+    --------
+    >>> parse_size("8GiB"), parse_size("1.5 GB"), parse_size("4096")
+    (8589934592, 1500000000, 4096)
+    """
+    m = re.fullmatch(r"\s*([0-9.]+(?:[eE][+-]?[0-9]+)?)\s*([A-Za-z]*)\s*", str(text))
+    if not m or m.group(2).lower() not in _UNITS:
+        raise ScenarioError(field, text, "must be a size such as 8GiB, 512MB or 2e9 (bytes)")
+    v = float(m.group(1)) * _UNITS[m.group(2).lower()]
+    if not v > 0:
+        raise ScenarioError(field, text, "must be positive")
+    return int(v)
+
+
+def set_limit(nbytes: int | None) -> None:
+    """Set (or with None clear) the user's memory limit, bytes."""
+    global _LIMIT
+    _LIMIT = None if nbytes is None else int(nbytes)
+
+
+def _cgroup_room() -> int | None:
+    try:
+        mx = open("/sys/fs/cgroup/memory.max").read().strip()
+        if mx == "max":
+            return None
+        cur = int(open("/sys/fs/cgroup/memory.current").read().strip())
+        return max(int(mx) - cur, 0)
+    except (OSError, ValueError):
+        return None
+
+
+def available_memory() -> int:
+    """Bytes this process may still use: the smallest of MemAvailable, the cgroup's room and the
+    user's limit (``set_limit``, ``SALKIT_MAX_MEMORY``)."""
+    cands = []
+    try:
+        for line in open("/proc/meminfo"):
+            if line.startswith("MemAvailable:"):
+                cands.append(int(line.split()[1]) * 1024)
+                break
+    except OSError:
+        pass
+    if not cands:
+        try:
+            cands.append(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+        except (ValueError, OSError):
+            cands.append(8 * 2 ** 30)
+    cg = _cgroup_room()
+    if cg is not None:
+        cands.append(cg)
+    if _LIMIT is not None:
+        cands.append(_LIMIT)
+    env = os.environ.get("SALKIT_MAX_MEMORY")
+    if env:
+        cands.append(parse_size(env, "SALKIT_MAX_MEMORY"))
+    return int(min(cands))
+
+
+def gib(n: float) -> str:
+    """A byte count in GiB, for messages."""
+    return f"{n / 2 ** 30:.3g} GiB"
+
+
+def check_memory(need: float, what: str, hint: str) -> None:
+    """Refuse a job whose estimated peak memory exceeds what is available.
+
+    Parameters
+    ----------
+    need : float
+        Estimated peak, bytes.
+    what : str
+        The job and the sizes that drive the estimate.
+    hint : str
+        What to reduce.
+
+    Raises
+    ------
+    ResourceError
+        "needs X GiB, Y GiB available; reduce ...".
+    """
+    have = available_memory()
+    if need > have:
+        raise ResourceError(f"{what} needs about {gib(need)} of memory, {gib(have)} available; {hint}")
+
+
+__all__ = ["available_memory", "check_memory", "gib", "parse_size", "set_limit"]
