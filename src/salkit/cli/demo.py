@@ -12,6 +12,7 @@ from pathlib import Path
 
 from ..errors import SalkitError
 from ..io.datasets import write_text_atomic
+from ..io.runfolder import RunFolder
 
 # name -> overrides applied in the demo only (none needed yet: every example runs in seconds)
 DEMO_SETS: dict[str, list[str]] = {
@@ -40,12 +41,12 @@ def main(argv=None) -> int:
         t0 = time.perf_counter()
         try:
             sc = load_scenario(f, DEMO_SETS.get(name, []))
-            with _Bar() as bar:
+            with RunFolder(out / name, overwrite=True, keep_on_failure=("stack.zarr",)) as tmp, _Bar() as bar:
                 if sc.experiment is not None:
                     from ..systems import run_experiment
-                    m = run_experiment(sc, out / name, progress=bar)
+                    m = run_experiment(sc, tmp, progress=bar)
                 else:
-                    m = run(sc, out / name, progress=bar)
+                    m = run(sc, tmp, progress=bar)
         except SalkitError as e:
             print(f"error: {e}", file=sys.stderr)
             return 2

@@ -120,6 +120,9 @@ class _Bar:
         self.p.__exit__(*exc)
 
     def __call__(self, stage: str, done: int, total: int):
+        from ..io.runfolder import INTERRUPTED
+        if INTERRUPTED["signal"] is not None:
+            raise KeyboardInterrupt(f"signal {INTERRUPTED['signal']}")
         if stage not in self.tasks:
             self.tasks[stage] = self.p.add_task(stage, total=total, rate="")
         elapsed = next(t.elapsed for t in self.p.tasks if t.id == self.tasks[stage]) or 0.0
@@ -465,15 +468,19 @@ def examples(copy_to: Optional[Path] = typer.Option(None, "--copy", help="copy t
                       highlight=False)
 
 
-def _sigterm(signum, frame):  # pragma: no cover - exercised by a subprocess test
+def _on_signal(signum, frame):  # pragma: no cover - exercised by subprocess tests
+    from ..io.runfolder import INTERRUPTED
+    INTERRUPTED["signal"] = signum
     raise KeyboardInterrupt(f"signal {signum}")
 
 
 def main():  # pragma: no cover
-    """Entry point of the ``salkit`` command: SIGTERM unwinds like Ctrl-C, so that nothing is left
-    half-written."""
+    """Entry point of the ``salkit`` command: SIGINT and SIGTERM unwind the same way, so that
+    nothing is left half-written; the signal is also recorded, so that a run whose exception was
+    swallowed (inside a finaliser) is still discarded at its end."""
     import signal
-    signal.signal(signal.SIGTERM, _sigterm)
+    signal.signal(signal.SIGTERM, _on_signal)
+    signal.signal(signal.SIGINT, _on_signal)
     return app()
 
 

@@ -196,11 +196,19 @@ def write_dataset(ds: xr.Dataset, path: str | Path) -> Path:
     EnvironmentProblem
         The file cannot be written (permissions, a full disk); nothing is left behind.
     """
+    import io
     from ..errors import EnvironmentProblem
+    # HDF5 is written in memory, then copied with plain file I/O: a full disk then fails in
+    # Python's write (a clean OSError), never inside HDF5, whose failed flush at exit crashes the
+    # interpreter
+    buf = io.BytesIO()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ds.to_netcdf(buf, engine="h5netcdf", invalid_netcdf=True, encoding=_checksum_encoding(ds))
     try:
-        with atomic_path(path) as tmp, warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            ds.to_netcdf(tmp, engine="h5netcdf", invalid_netcdf=True, encoding=_checksum_encoding(ds))
+        with atomic_path(path) as tmp:
+            with open(tmp, "wb") as fh:
+                fh.write(buf.getbuffer())
     except OSError as e:
         raise EnvironmentProblem(f"cannot write {path}: {_os_reason(e)}") from None
     return Path(path)

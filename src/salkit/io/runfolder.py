@@ -25,6 +25,10 @@ from ..errors import DataFileError, EnvironmentProblem, ScenarioError
 
 MANIFEST = "manifest.json"
 
+#: Set by the command line's SIGINT/SIGTERM handler: a run that completes after it is discarded
+#: (a handler's exception can be swallowed when it lands inside a finaliser).
+INTERRUPTED = {"signal": None}
+
 
 def sha256_file(path: Path, chunk: int = 1 << 20) -> str:
     """SHA-256 of a file's bytes (hex)."""
@@ -231,6 +235,9 @@ class RunFolder:
         if exc_type is not None:
             self._cleanup(False)
             return False
+        if INTERRUPTED["signal"] is not None:
+            self._cleanup(False)
+            raise KeyboardInterrupt(f"signal {INTERRUPTED['signal']}")
         try:
             write_manifest(self.tmp, self.run_id, self.command)
             fd = os.open(self.tmp, os.O_RDONLY)
@@ -258,4 +265,4 @@ class RunFolder:
         return False
 
 
-__all__ = ["MANIFEST", "RunFolder", "sha256_file", "verify", "write_manifest"]
+__all__ = ["INTERRUPTED", "MANIFEST", "RunFolder", "sha256_file", "verify", "write_manifest"]

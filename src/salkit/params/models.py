@@ -461,6 +461,10 @@ class Scenario(_Frozen):
             if getattr(self, name) is None:
                 raise ValueError(f"{name}: this section is required (only experiment.kind = downlooking "
                                  "works without it)")
+        lam, D = self.waveform.wavelength, self.platform.real_aperture
+        if not 1.2196698912665045 * lam / D < 0.5:
+            raise ValueError(f"platform.real_aperture = {D:g} m is too small for wavelength {lam:g} m: the "
+                             "beam's first null 1.22 lambda/D must stay below 30 deg (paraxial Airy beam)")
         return self
 
     @property

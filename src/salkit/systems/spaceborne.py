@@ -114,6 +114,30 @@ def _subimage_chunk_task(base_dict: dict, indices: list, squints: list, noise: b
     return list(indices), out.astype(np.float32)
 
 
+def stack_memory_estimate(base: Scenario, count: int, workers: int) -> tuple[float, str]:
+    """Peak memory of stacking ``count`` sub-images of ``base`` with ``workers`` local workers, bytes:
+    one sub-image simulated and focused per worker and in this process, plus the (count, nx, ny)
+    float32 intensity stack read back for the SNR curves.
+
+    Parameters
+    ----------
+    base : Scenario
+        One sub-image's scenario.
+    count : int
+    workers : int
+
+    Returns
+    -------
+    (float, str)
+    """
+    from ..simulate import memory_estimate
+    one, _ = memory_estimate(base, focus=True)
+    g = base.processing.grid
+    stack_bytes = 4.0 * count * g.nx * g.ny
+    return (workers + 1) * one + 2 * stack_bytes, (f"stacking {count} sub-images of {g.nx} x {g.ny} pixels on "
+                                                   f"{workers} worker(s)")
+
+
 def run_stack(base: Scenario, squints, store, scheduler: str | None = None,
               workers: int = 2, noise: bool = True, progress=None, stop_after: int | None = None,
               chunk: int | None = None):
@@ -245,6 +269,7 @@ def run(scenario: Scenario, out_dir, progress=None) -> dict:
     from ..geometry.collection import build_collection, grid_axes, plane_from
     from ..geometry.orbit import collection_span, n_subimages, relative_speed, subaperture_length
     from ..geometry.sampling import check_sampling
+    from ..resources import check_memory
     from ..io.datasets import make_image_dataset, write_dataset, write_json_atomic, write_text_atomic
     from ..params.scenario import dump_scenario
     from ..simulate import signal_scale
@@ -266,6 +291,8 @@ def run(scenario: Scenario, out_dir, progress=None) -> dict:
     P_all = n_subimages(D, L)
     count = min(P_all, scenario.stack.max_subimages or P_all)
     squints = nearest_squints(count, L, L0)
+    check_memory(*stack_memory_estimate(base, count, scenario.stack.workers),
+                 "reduce stack.max_subimages, stack.workers or the grid")
     metrics = {"relative_speed_m_s": V, "closest_distance_m": L0, "collection_span_m": D,
                "subaperture_length_m": L, "subimages_in_collection": P_all, "stack_count": count}
     g = base.processing.grid

@@ -1,0 +1,60 @@
+"""The memory guard: estimates from sizes, refusals with the numbers, before any work."""
+import time
+
+import pytest
+
+from salkit.errors import ResourceError, ScenarioError
+from salkit.params import parse_scenario
+from salkit.resources import available_memory, check_memory, parse_size, set_limit
+
+from .conftest import SPOT, merge
+
+
+def test_parse_size():
+    assert parse_size("8GiB") == 8 * 2 ** 30 and parse_size("512 MB") == 512_000_000 and parse_size("2e9") == 2e9
+    for bad in ("lots", "-1GB", "0", "5 parsecs"):
+        with pytest.raises(ScenarioError):
+            parse_size(bad)
+
+
+def test_limit_and_refusal_message():
+    set_limit(2 ** 30)
+    try:
+        assert available_memory() <= 2 ** 30
+        with pytest.raises(ResourceError, match=r"job needs about 2 GiB of memory, 1 GiB available; reduce it"):
+            check_memory(2 * 2 ** 30, "job", "reduce it")
+    finally:
+        set_limit(None)
+
+
+@pytest.mark.parametrize("sets", [{"receiver__adc_rate": 1e12}, {"platform__aperture_length": 1e6}])
+def test_simulate_refuses_before_any_work(sets):
+    from salkit import simulate
+    sc = parse_scenario(merge(SPOT, **sets))
+    t0 = time.perf_counter()
+    with pytest.raises(ResourceError, match="needs about .* GiB of memory"):
+        simulate(sc)
+    assert time.perf_counter() - t0 < 2.0
+
+
+def test_estimate_tracks_the_real_allocation():
+    """The estimate is an upper bound of the signal actually made, within a small factor."""
+    from salkit import simulate
+    from salkit.simulate import memory_estimate
+    sc = parse_scenario(SPOT)
+    raw = simulate(sc)
+    need, _ = memory_estimate(sc)
+    sig = raw["signal"].nbytes
+    assert 2 * sig <= need < 4 * sig + 1e6
+
+
+def test_screens_refused():
+    from salkit.atmosphere import phase_screens
+    with pytest.raises(ResourceError):
+        phase_screens(1_000_000, 0.01, 0.05)
+    with pytest.raises(ResourceError):
+        phase_screens(256, 0.01, 0.05, count=10 ** 9)
+    with pytest.raises(ScenarioError, match="below the outer scale"):
+        phase_screens(64, 0.01, 0.05, outer_scale=1.0, inner_scale=10.0)
+    with pytest.raises(ScenarioError, match="seed = -4"):
+        phase_screens(64, 0.01, 0.05, seed=-4)
