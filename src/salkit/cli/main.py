@@ -408,6 +408,7 @@ def info(path: Path = typer.Argument(..., help="a salkit NetCDF file or a scenar
             dd = design(sc.experiment)
             out.print_json(json.dumps({"name": sc.name, **dd.as_dict(), "warnings": list(dd.warnings)}, default=str))
             return
+        _preflight(sc)
         col = build_collection(sc)
         rep = check_sampling(sc, col)
         res = resolution_theory(sc, col)

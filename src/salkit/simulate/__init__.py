@@ -161,7 +161,7 @@ def memory_estimate(scenario: Scenario, focus: bool = False) -> tuple[float, str
     if sc.extended is not None:
         n_scat += int((sc.extended.extent[0] / sc.extended.spacing + 1) * (sc.extended.extent[1] / sc.extended.spacing + 1))
     sig = 8.0 * P * N
-    need = 2 * sig + 200.0 * P + 48.0 * n_scat
+    need = 2 * sig + 2048.0 * P + 48.0 * n_scat  # per pulse: geometry and the sampling check's probes
     what = f"simulating {P} pulses x {N} samples ({sig / 2 ** 30:.3g} GiB of signal), {n_scat} scatterers"
     if focus and scenario.processing is not None:
         from ..focus import memory_estimate as focus_estimate
