@@ -305,14 +305,18 @@ def _export_sicd(src: Path, dst: Path, origin: Optional[str]) -> None:
     from ..io import check_sicd, read_image, write_sicd
     img = read_image(src)
     write_sicd(img, dst, origin=_origin(origin))
-    res = check_sicd(dst)
+    _report_check(check_sicd(dst))
+    out.print(f"wrote {dst} (SICD 1.3.0; sarkit consistency check: 0 errors)", highlight=False)
+
+
+def _report_check(res: dict) -> None:
+    """Print a sarkit consistency check's warnings; its errors exit 1 (salkit wrote a bad file)."""
     for w in res["warnings"]:
         out.print(f"[yellow]sarkit warning:[/] {w}", highlight=False)
     if res["errors"]:
         for e in res["errors"]:
             err.print(f"[red]sarkit error:[/] {e}", highlight=False)
         raise typer.Exit(code=1)
-    out.print(f"wrote {dst} (SICD 1.3.0; sarkit consistency check: 0 errors)", highlight=False)
 
 
 def _origin(origin: Optional[str]):
@@ -360,13 +364,7 @@ def convert(src: Path = typer.Argument(..., help="input: .nc (raw or phase histo
     if suf == ".cphd":
         write_cphd(ph, dst, origin=llh)
         if check:
-            res = check_cphd(dst)
-            for w in res["warnings"]:
-                out.print(f"[yellow]sarkit warning:[/] {w}", highlight=False)
-            if res["errors"]:
-                for e in res["errors"]:
-                    err.print(f"[red]sarkit error:[/] {e}", highlight=False)
-                raise typer.Exit(code=1)
+            _report_check(check_cphd(dst))
             out.print("sarkit CPHD consistency check: 0 errors", highlight=False)
     elif suf == ".mat":
         write_gotcha(ph, dst)

@@ -11,7 +11,6 @@ and moved back into the next run's folder, so long work resumes.
 from __future__ import annotations
 
 import datetime as _dt
-import errno
 import fcntl
 import hashlib
 import json
