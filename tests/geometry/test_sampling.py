@@ -86,3 +86,11 @@ def test_single_point_cannot_alias_but_grid_replicas_warn():
     with pytest.warns(UserWarning, match="unambiguous azimuth extent"):
         rep = check_sampling(sc)
     assert rep.doppler_bandwidth == pytest.approx(0.0, abs=1e-6)
+
+
+def test_angle_between_is_accurate_at_tiny_angles():
+    """acos of a dot product returns 0 below ~1e-8 rad (a 0.2 m aperture at 13,000 km)."""
+    import math
+    from salkit.geometry.collection import angle_between
+    for a in (1e-12, 1.5e-8, 1e-3, 1.0, 3.0):
+        assert angle_between([1.0, 0, 0], [math.cos(a), math.sin(a), 0]) == pytest.approx(a, rel=1e-12)

@@ -11,7 +11,7 @@ import xarray as xr
 
 from ..constants import SPEED_OF_LIGHT
 from ..errors import DataFileError, ScenarioError
-from ..geometry.collection import (beam_gain_table, grid_axes, plane_from, truth_positions,
+from ..geometry.collection import (angle_between, beam_gain_table, grid_axes, plane_from, truth_positions,
                                    two_way_3db_sin)
 from ..io.datasets import make_image_dataset
 from ..io.ingest import normalise_phase_history
@@ -85,7 +85,7 @@ def theory_resolution(ph: PhaseHistory, plane) -> dict:
     else:
         u = ph.positions / np.linalg.norm(ph.positions, axis=1, keepdims=True)
         P = u.shape[0]
-        ang = math.acos(min(1.0, float(u[0] @ u[-1]))) * P / (P - 1)
+        ang = angle_between(u[0], u[-1]) * P / (P - 1)
     return {"range": rho_r, "azimuth": lam / (2 * ang), "bandwidth": B, "angle": ang}
 
 

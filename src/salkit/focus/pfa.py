@@ -20,7 +20,7 @@ from numba import njit, prange
 
 from ..constants import SPEED_OF_LIGHT
 from ..errors import ScenarioError
-from ..geometry.collection import first_null_sin
+from ..geometry.collection import angle_between, first_null_sin
 from .backprojection import _sincos_cycles
 from .interp import azimuth_pass, interp_rows_linear, kernel_table
 
@@ -58,7 +58,7 @@ def illuminated_extent(freq: np.ndarray, positions: np.ndarray, plane, real_aper
     c = SPEED_OF_LIGHT
     P = positions.shape[0]
     u = positions / np.linalg.norm(positions, axis=1, keepdims=True)
-    dtheta = math.acos(min(1.0, float(u[0] @ u[-1]))) / max(P - 1, 1)
+    dtheta = angle_between(u[0], u[-1]) / max(P - 1, 1)
     lam_min = c / float(np.max(freq))
     pc = positions[P // 2]
     R = float(np.linalg.norm(pc))

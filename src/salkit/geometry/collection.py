@@ -94,6 +94,29 @@ def beam_gain_table(wavelength: float, diameter: float, n: int = 8192, u_max: fl
     return (one_way ** 2).astype(np.float64), dsin
 
 
+def angle_between(u: np.ndarray, v: np.ndarray) -> float:
+    """Angle between two vectors, rad, accurate at any size (atan2 of the cross and dot products;
+    acos of the dot product loses everything below ~1e-8 rad, a 0.2 m aperture at 13,000 km).
+
+    Parameters
+    ----------
+    u, v : (3,) array_like
+
+    Returns
+    -------
+    float
+        rad, in [0, pi].
+
+    Examples
+    --------
+    >>> angle_between([1.0, 0, 0], [1.0, 1.5e-8, 0])
+    1.5e-08
+    """
+    u = np.asarray(u, dtype=np.float64)
+    v = np.asarray(v, dtype=np.float64)
+    return float(math.atan2(np.linalg.norm(np.cross(u, v)), float(np.dot(u, v))))
+
+
 def first_null_sin(wavelength: float, diameter: float) -> float:
     """sin of the half-angle of the first null of a circular aperture's (Airy) pattern.
 
@@ -312,7 +335,7 @@ def resolution_theory(scenario: Scenario, collection: Collection | None = None) 
     if p.mode == "spotlight":
         u0 = _unit(col.positions[0])
         u1 = _unit(col.positions[-1])
-        ang = math.acos(min(1.0, float(np.dot(u0, u1))))
+        ang = angle_between(u0, u1)
         n = col.n_pulses
         ang_eff = ang * n / (n - 1)
         rho_a = lam / (2.0 * ang_eff)

@@ -66,7 +66,7 @@ class Waveform(_Frozen):
     wavelength: float = Field(gt=0, lt=1.0, description="centre wavelength, m")
     bandwidth: float = Field(gt=0, description="swept bandwidth, Hz")
     pulse_width: float = Field(gt=0, lt=1.0, description="pulse (chirp) duration, s")
-    prf: float = Field(gt=0, description="pulse repetition frequency, Hz")
+    prf: float = Field(gt=0, le=1e9, description="pulse repetition frequency, Hz")
     chirp_rate: Optional[float] = Field(default=None, description="Hz/s; defaults to bandwidth/pulse_width")
     nonlinearity: tuple[float, ...] = Field(
         default=(), description="coefficients of t**2, t**3, ... in the frequency sweep, Hz/s**n")
@@ -143,15 +143,15 @@ class Platform(_Frozen):
     """
 
     mode: Literal["spotlight", "stripmap"] = "spotlight"
-    speed: float = Field(gt=0, description="platform speed, m/s")
-    altitude: float = Field(ge=0, description="height above the scene plane, m")
-    standoff: float = Field(ge=0, description="horizontal distance from track to scene centre, m")
+    speed: float = Field(gt=0, le=3e5, description="platform speed, m/s (at most 1e-3 c)")
+    altitude: float = Field(ge=0, le=1e9, description="height above the scene plane, m")
+    standoff: float = Field(ge=0, le=1e9, description="horizontal distance from track to scene centre, m")
     heading_deg: float = Field(default=0.0, ge=-360, le=360, description="track direction, deg from +x")
     side: Literal["left", "right"] = "left"
     squint_deg: float = Field(default=0.0, gt=-60, lt=60, description="squint of aperture centre, deg")
-    aperture_length: Optional[float] = Field(default=None, gt=0, description=(
+    aperture_length: Optional[float] = Field(default=None, gt=0, le=1e9, description=(
         "synthetic aperture length, m (spotlight); stripmap: collection length, default scene + footprint"))
-    real_aperture: float = Field(gt=0, description="diameter of the (circular) telescope aperture, m")
+    real_aperture: float = Field(gt=0, le=1e3, description="diameter of the (circular) telescope aperture, m")
     positions: Optional[tuple[tuple[float, float, float], ...]] = Field(
         default=None, description="explicit antenna position per pulse, m (overrides the straight line)")
     intra_pulse_motion: bool = Field(default=False, description="model motion during each pulse")
@@ -175,10 +175,10 @@ class Platform(_Frozen):
 class PointTarget(_Frozen):
     """Point scatterer at ground coordinates (x along track, y across, z up), m."""
 
-    x: float = 0.0
-    y: float = 0.0
-    z: float = 0.0
-    amplitude: float = Field(default=1.0, ge=0, description="reflectivity magnitude (1 = unit cell)")
+    x: float = Field(default=0.0, ge=-1e6, le=1e6, description="m")
+    y: float = Field(default=0.0, ge=-1e6, le=1e6, description="m")
+    z: float = Field(default=0.0, ge=-1e6, le=1e6, description="m")
+    amplitude: float = Field(default=1.0, ge=0, le=1e12, description="reflectivity magnitude (1 = unit cell)")
     phase: float = Field(default=0.0, description="reflectivity phase, rad")
 
 
@@ -188,17 +188,17 @@ class ExtendedScene(_Frozen):
     kind: Literal["pattern", "image"] = "pattern"
     pattern: Literal["letter_I", "bars", "checker", "disk", "uniform", "satellite"] = "letter_I"
     file: Optional[str] = Field(default=None, description="image file (PNG/NPY) for kind=image")
-    extent: tuple[float, float] = Field(description="size along x (azimuth) and y (ground range), m")
+    extent: tuple[float, float] = Field(description="size along x (azimuth) and y (ground range), m (each <= 1e5)")
     spacing: float = Field(gt=0, description="scatterer spacing, m (below the resolution cell)")
     speckle: bool = True
-    height: float = Field(default=0.0, description="height of the scene plane, m")
+    height: float = Field(default=0.0, ge=-1e6, le=1e6, description="height of the scene plane, m")
     amplitude: float = Field(default=1.0, gt=0, description="reflectivity of a bright cell")
 
     @field_validator("extent")
     @classmethod
     def _positive(cls, v):
-        if v[0] <= 0 or v[1] <= 0:
-            raise ValueError(f"extent {v} must be positive in both axes")
+        if not (0 < v[0] <= 1e5 and 0 < v[1] <= 1e5):
+            raise ValueError(f"extent {v} must be positive and at most 1e5 m in both axes")
         return v
 
     @model_validator(mode="after")
