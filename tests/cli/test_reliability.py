@@ -65,8 +65,9 @@ def test_interrupted_run_leaves_nothing(tmp_path, slow, sig):
     assert _wait_for_tmp(tmp_path, "out", p), p.communicate()
     p.send_signal(sig)
     _, err = p.communicate(timeout=60)
-    assert p.returncode == 130 and "Traceback" not in err, err
-    assert [x.name for x in tmp_path.iterdir()] == ["slow.yaml"]
+    left = sorted(x.name for x in tmp_path.iterdir())
+    assert p.returncode == 130 and "Traceback" not in err, (p.returncode, err, left)
+    assert left == ["slow.yaml"], (left, err)
 
 
 def test_interrupted_overwrite_keeps_the_old_run(tmp_path, scen, slow):
