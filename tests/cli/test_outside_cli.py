@@ -71,6 +71,8 @@ def test_focus_with_sicd_and_export(tmp_path, raw_file):
     r = runner.invoke(app, ["export", str(tmp_path / "s" / "image.nc"), str(tmp_path / "x.nitf"),
                             "--origin", "48.1,11.6,520"])
     assert r.exit_code == 0 and "0 errors" in r.output, r.output
+    r = runner.invoke(app, ["export", str(tmp_path / "s" / "image.nc"), str(tmp_path / "x.nitf")])
+    assert r.exit_code == 2 and "exists; pass --overwrite" in " ".join(r.output.split())
     r = runner.invoke(app, ["export", str(tmp_path / "s" / "image.nc"), str(tmp_path / "x.png")])
     assert r.exit_code == 2 and ".nitf or .ntf" in r.output
 

@@ -336,9 +336,11 @@ def _origin(origin: Optional[str]):
 def export(image: Path = typer.Argument(..., help="salkit image.nc"),
            dst: Path = typer.Argument(..., help="SICD file to write (.nitf or .ntf)"),
            origin: Optional[str] = typer.Option(None, help="scene centre as LAT,LON,HAE (deg, deg, m); default "
-                                                "the image's origin_llh, else 0,0,0")):
+                                                "the image's origin_llh, else 0,0,0"),
+           overwrite: bool = typer.Option(False, "--overwrite", help="replace an existing file")):
     """Export a focused image as SICD 1.3.0 (NITF), metadata from the image and its collection."""
     from ..errors import ScenarioError
+    _check_out_file(dst, overwrite, "dst")
     if dst.suffix.lower() not in (".nitf", ".ntf"):
         raise ScenarioError("dst", str(dst), "SICD files end in .nitf or .ntf")
     _export_sicd(image, dst, origin)
@@ -350,8 +352,10 @@ def convert(src: Path = typer.Argument(..., help="input: .nc (raw or phase histo
             dst: Path = typer.Argument(..., help="output: .nc (phase history), .cphd or .mat"),
             origin: Optional[str] = typer.Option(None, help="scene centre for CPHD as LAT,LON,HAE (deg, deg, m); "
                                                  "default the file's origin_llh, else 0,0,0"),
-            check: bool = typer.Option(True, help="run sarkit's consistency checker on a written CPHD")):
+            check: bool = typer.Option(True, help="run sarkit's consistency checker on a written CPHD"),
+            overwrite: bool = typer.Option(False, "--overwrite", help="replace an existing file")):
     """Convert phase histories between salkit NetCDF, CPHD and the GOTCHA .mat layout."""
+    _check_out_file(dst, overwrite, "dst")
     from ..errors import ScenarioError
     from ..focus import range_compress
     from ..io import PHASE_SUFFIXES, check_cphd, read_phase_data, write_cphd, write_dataset, write_gotcha
