@@ -15,7 +15,7 @@ PTS = [{"x": 0.1, "y": -0.05, "amplitude": 10.0}, {"x": -0.3, "y": 0.2, "amplitu
 
 @pytest.fixture(scope="module")
 def scene():
-    """Speckle of cell amplitude 0.3 over 1.2 m x 1.2 m and three points 29 dB brighter than a
+    """Speckle of cell amplitude 0.3 over 1.2 m x 1.2 m and three points 28-30 dB brighter than a
     clutter cell; the grid (96 px, 1.15 m) is much smaller than the 243 pulses' azimuth extent."""
     sc = parse_scenario(merge(SPOT, scene={"points": PTS, "extended": {
         "kind": "pattern", "pattern": "uniform", "extent": [1.2, 1.2], "spacing": 0.006, "amplitude": 0.3}},
