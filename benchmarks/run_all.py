@@ -18,6 +18,8 @@ same run. Run with ``make bench`` (or ``.venv/bin/python benchmarks/run_all.py``
   evaluation of the same fields) and image formation (FFT processor against a direct
   time-domain along-track matched filter), with the images compared.
 
+- startup: ``import salkit`` and ``salkit --help`` in fresh interpreters against
+  ``import numpy, xarray``.
 - outside: a 500-pulse collection converted to CPHD (sarkit check included) and the GOTCHA .mat
   layout and back, focused; per-pulse sharpness autofocus per sweep against PGA per iteration at
   1024 x 1024.
@@ -246,6 +248,26 @@ def bench_outside(n_pulses=500, n_pix=256):
     return out
 
 
+def bench_startup(repeat=5):
+    """Start-up: ``import salkit`` and ``salkit --help`` against ``import numpy, xarray``, each in a
+    fresh interpreter, best of ``repeat`` (issue 12 target: within 1.5x)."""
+    import subprocess
+
+    def best(cmd):
+        t = []
+        for _ in range(repeat):
+            t0 = time.perf_counter()
+            subprocess.run(cmd, check=True, capture_output=True)
+            t.append(time.perf_counter() - t0)
+        return min(t)
+    py = sys.executable
+    base = best([py, "-c", "import numpy, xarray"])
+    imp = best([py, "-c", "import salkit"])
+    hlp = best([py, "-m", "salkit.cli.main", "--help"])
+    return {"startup_import_numpy_xarray_s": base, "startup_import_salkit_s": imp, "startup_help_s": hlp,
+            "startup_import_ratio": imp / base, "startup_help_ratio": hlp / base}
+
+
 def bench_chirp(n=100_000):
     """Cost of each nonlinear-chirp correction per pulse of n samples (seed 002 chirp)."""
     from salkit.focus.chirpcorr import (correct_deskew, correct_paper, correct_resample,
@@ -400,7 +422,8 @@ def main():
     only = sys.argv[1:]
     for name, fn in (("backprojection", bench_backprojection), ("pfa", bench_pfa), ("simulation", bench_simulation),
                      ("screens", bench_screens), ("pga", bench_pga), ("chirp", bench_chirp),
-                     ("spaceborne", bench_spaceborne), ("downlooking", bench_downlooking), ("outside", bench_outside)):
+                     ("spaceborne", bench_spaceborne), ("downlooking", bench_downlooking), ("outside", bench_outside),
+                     ("startup", bench_startup)):
         if only and name not in only:
             continue
         t0 = time.perf_counter()

@@ -14,12 +14,20 @@ try:
 except PackageNotFoundError:  # pragma: no cover - source tree without install
     __version__ = "0.0.0"
 
-from .errors import SalkitError, ScenarioError, SamplingError, DataFileError  # noqa: E402
-from .params import Scenario, load_scenario  # noqa: E402
-from . import focus, simulate  # noqa: E402  callable subpackages: salkit.simulate(sc), salkit.focus(raw)
-from .focus import range_compress  # noqa: E402
-from .metrics import measure  # noqa: E402
-from .geometry import truth_positions  # noqa: E402
+import lazy_loader as _lazy
+
+from .errors import DataFileError, SalkitError, SamplingError, ScenarioError  # noqa: E402
+
+# Everything else loads on first use (scikit-image's mechanism), so ``import salkit`` and
+# ``salkit --help`` do not pay for numba, scipy.signal or matplotlib. ``salkit.focus`` and
+# ``salkit.simulate`` are callable subpackages: ``salkit.simulate(sc)``, ``salkit.focus(raw)``.
+__getattr__, __dir__, _ = _lazy.attach(
+    __name__,
+    submodules=["atmosphere", "autofocus", "focus", "geometry", "interferometry", "io", "metrics", "params",
+                "plot", "report", "resources", "signals", "simulate", "systems"],
+    submod_attrs={"params": ["Scenario", "load_scenario"], "focus": ["range_compress"],
+                  "metrics": ["measure"], "geometry": ["truth_positions"]},
+)
 
 __all__ = [
     "__version__", "SalkitError", "ScenarioError", "SamplingError", "DataFileError",

@@ -484,7 +484,17 @@ def main():  # pragma: no cover
     import signal
     signal.signal(signal.SIGTERM, _on_signal)
     signal.signal(signal.SIGINT, _on_signal)
+    sys.unraisablehook = _unraisable
     return app()
+
+
+def _unraisable(u):  # pragma: no cover - exercised by the signal tests
+    """Our interrupt raised inside a finaliser or a ctypes callback (numba compiling) is reported by
+    Python as an ignored exception with a traceback; the run is discarded anyway: keep it quiet."""
+    from ..io.runfolder import INTERRUPTED
+    if isinstance(u.exc_value, KeyboardInterrupt) and INTERRUPTED["signal"] is not None:
+        return
+    sys.__unraisablehook__(u)
 
 
 if __name__ == "__main__":  # pragma: no cover

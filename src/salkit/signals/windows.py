@@ -4,7 +4,10 @@ from __future__ import annotations
 from functools import lru_cache
 
 import numpy as np
-from scipy.signal import windows as _w
+import lazy_loader as _lazy
+
+# loaded on first use (scipy.signal costs 0.5 s to import); the parent, scipy, is light
+_signal = _lazy.load("scipy.signal", suppress_warning=True)
 
 
 def window(name: str, n: int, nbar: int = 4, sll: float = 35.0) -> np.ndarray:
@@ -21,9 +24,9 @@ def window(name: str, n: int, nbar: int = 4, sll: float = 35.0) -> np.ndarray:
     if name == "none":
         return np.ones(n)
     if name == "hamming":
-        return _w.hamming(n, sym=True)
+        return _signal.windows.hamming(n, sym=True)
     if name == "taylor":
-        return _w.taylor(n, nbar=nbar, sll=sll, norm=True, sym=True)
+        return _signal.windows.taylor(n, nbar=nbar, sll=sll, norm=True, sym=True)
     raise ValueError(f"unknown window {name!r}")
 
 
