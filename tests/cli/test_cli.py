@@ -1,7 +1,5 @@
 """The command line: outputs, flat numeric metrics.json, and exit status 2 without tracebacks."""
 import json
-import subprocess
-import sys
 
 import pytest
 import yaml
@@ -14,8 +12,20 @@ KEYS = ["irw_range_m", "irw_azimuth_m", "pslr_range_db", "pslr_azimuth_db", "isl
         "peak_offset_range_theory_m", "peak_offset_azimuth_theory_m"]
 
 
+class _Result:
+    def __init__(self, r):
+        self.returncode, self.stdout, self.stderr = r.exit_code, r.stdout, r.stderr
+        self.exception = r.exception
+
+
 def salkit(*args):
-    return subprocess.run([sys.executable, "-m", "salkit.cli.main", *map(str, args)], capture_output=True, text=True)
+    """Run the command line in-process (typer's CliRunner), wide enough that no line wraps.
+    Real subprocesses are exercised in test_reliability.py (signals, the entry point)."""
+    from typer.testing import CliRunner
+    from salkit.cli.main import app
+    r = CliRunner().invoke(app, [str(a) for a in args], env={"COLUMNS": "400"})
+    assert r.exception is None or isinstance(r.exception, SystemExit), repr(r.exception)
+    return _Result(r)
 
 
 @pytest.fixture

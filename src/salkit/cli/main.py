@@ -489,10 +489,11 @@ def main():  # pragma: no cover
 
 
 def _unraisable(u):  # pragma: no cover - exercised by the signal tests
-    """Our interrupt raised inside a finaliser or a ctypes callback (numba compiling) is reported by
-    Python as an ignored exception with a traceback; the run is discarded anyway: keep it quiet."""
+    """After an interrupt, Python reports as ignored exceptions, with tracebacks, our interrupt raised
+    inside a finaliser or a ctypes callback, and the finalisers of what it cut short (llvmlite's,
+    when numba was compiling); the run is discarded anyway: keep them quiet."""
     from ..io.runfolder import INTERRUPTED
-    if isinstance(u.exc_value, KeyboardInterrupt) and INTERRUPTED["signal"] is not None:
+    if INTERRUPTED["signal"] is not None:
         return
     sys.__unraisablehook__(u)
 
