@@ -18,6 +18,7 @@ demo: $(STAMP)
 	$(PY) -m salkit.cli.demo --out results
 
 test: $(STAMP)
+	$(VENV)/bin/lint-imports --no-cache
 	$(PY) -m pytest -q
 
 bench: $(STAMP)

@@ -9,7 +9,7 @@ import pytest
 
 from salkit import focus, measure, simulate
 from salkit.params import parse_scenario
-from salkit.signals.windows import window_ipr
+from salkit.metrics.pointtarget import window_ipr
 
 from ..conftest import GEO, SPOT, STRIP, merge
 

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from salkit.metrics import analyse_point, contrast, entropy, ipr_1d
-from salkit.signals.windows import window_ipr
+from salkit.metrics.pointtarget import window_ipr
 
 
 def test_ideal_sinc_figures():

@@ -192,8 +192,8 @@ def _preflight(sc) -> None:
             out.print(f"[yellow]warning:[/] {w}", highlight=False)
         return
     from ..resources import check_memory
-    from ..simulate import memory_estimate
-    need, what = memory_estimate(sc, focus=sc.processing is not None)
+    from ..systems.airborne import run_memory_estimate
+    need, what = run_memory_estimate(sc)
     check_memory(need, what, "reduce receiver.adc_rate, platform.aperture_length, waveform.prf or the grid "
                  "(processing.grid.nx, ny)")
     if sc.experiment is None:

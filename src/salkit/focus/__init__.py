@@ -17,7 +17,8 @@ from ..io.datasets import make_image_dataset
 from ..io.ingest import normalise_phase_history
 from ..params.models import Grid, Processing
 from ..resources import check_memory
-from ..signals.windows import window, window_ipr
+from ..metrics.pointtarget import window_ipr
+from ..signals.windows import window
 from .backprojection import backproject
 from .omegak import omegak as omega_k  # keep salkit.focus.omegak the module
 from .pfa import pfa as polar_format  # keep salkit.focus.pfa the module

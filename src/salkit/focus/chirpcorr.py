@@ -25,32 +25,11 @@ import scipy.fft as sfft
 from ..errors import SalkitError
 from .rangecomp import deskew
 
-TWO_PI = 2 * math.pi
+from ..signals.chirp import TWO_PI, nonlinear_phase, reference_beat  # noqa: F401  (re-exported)
 
 
 class PhaseUnwrapError(SalkitError):
     """The reference beat is too weak or too fast to unwrap reliably."""
-
-
-def nonlinear_phase(t: np.ndarray, coeffs) -> np.ndarray:
-    """e(t) (rad) of a frequency sweep f(t) = f0 + k t + sum_n coeffs[n-2] t^n (Hz/s^n)."""
-    e = np.zeros_like(t, dtype=np.float64)
-    for i, c in enumerate(coeffs):
-        n = i + 2
-        e += TWO_PI * c * t ** (n + 1) / (n + 1)
-    return e
-
-
-def reference_beat(t: np.ndarray, f0: float, k: float, coeffs, delay: float, table=None) -> np.ndarray:
-    """Dechirped reference channel exp(j [Phi(t - D) - Phi(t)]) for delay D (s), unit amplitude.
-
-    ``table`` = (t_tab, e_tab) adds an arbitrary chirp phase error e(t) (linear interpolation)."""
-    lin = -(f0 + k * t) * delay + 0.5 * k * delay ** 2
-    lin = TWO_PI * (lin - np.floor(lin))
-    ph = lin + nonlinear_phase(t - delay, coeffs) - nonlinear_phase(t, coeffs)
-    if table is not None:
-        ph = ph + np.interp(t - delay, *table) - np.interp(t, *table)
-    return np.exp(1j * ph)
 
 
 def _basis(t: np.ndarray, order: int, delay: float, scale: float) -> np.ndarray:

@@ -9,7 +9,6 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from ..signals.windows import window  # noqa: E402
 
 
 def _save(fig, path: str | Path) -> Path:
@@ -43,30 +42,16 @@ def image_db(image_ds, path, title: str = "", dynamic_range: float = 40.0, truth
     return _save(fig, path)
 
 
-def theory_ipr(window_name: str, x: np.ndarray, resolution: float, nbar: int = 4,
-               sll: float = 35.0) -> np.ndarray:
-    """Theoretical |IPR|^2 (peak 1) of a window at offsets x (m) for a given resolution (m)."""
-    n = 256
-    w = window(window_name, n, nbar, sll)
-    t = (np.arange(n) - (n - 1) / 2) / n  # normalised aperture coordinate
-    h = np.abs(np.exp(2j * np.pi * np.outer(x / resolution, t)) @ w)
-    return (h / h.max()) ** 2
+def cuts(curves: dict, metrics: dict, path) -> Path:
+    """Range and azimuth cuts through the brightest target against the theoretical response.
 
-
-def cuts(details: dict, metrics: dict, attrs: dict, path) -> Path:
-    """Range and azimuth cuts through the brightest target against the theoretical response."""
+    ``curves`` is :func:`salkit.metrics.pointtarget.cut_curves`: per axis (x m, measured dB, theory dB).
+    """
     fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
-    for ax, name, d0, key in ((axes[0], "range", details["_cut_dy"], "_cut_range"),
-                              (axes[1], "azimuth", details["_cut_dx"], "_cut_azimuth")):
-        y = details[key] ** 2
-        y = y / y.max()
-        i = int(np.argmax(y))
-        x = (np.arange(y.size) - i) * d0
-        res = float(attrs.get(f"resolution_{name}", np.nan))
-        keep = np.abs(x) <= 8 * res
-        ax.plot(x[keep] * 100, 10 * np.log10(np.maximum(y[keep], 1e-8)), label="measured")
-        th = theory_ipr(attrs.get("window", "none"), x[keep], res)
-        ax.plot(x[keep] * 100, 10 * np.log10(np.maximum(th, 1e-8)), "--", label="theory")
+    for ax, name in ((axes[0], "range"), (axes[1], "azimuth")):
+        x, meas, th = curves[name]
+        ax.plot(x * 100, meas, label="measured")
+        ax.plot(x * 100, th, "--", label="theory")
         ax.set_ylim(-50, 3)
         ax.set_xlabel(f"{name} offset (cm)")
         ax.set_ylabel("dB")
@@ -295,14 +280,12 @@ def spaceborne_figures(truth, fig7, single, stack, counts, curve, snr1_theory, a
     _save(fig, out / "snr_vs_p.png")
 
 
-def resolution_squint_figure(squints, measured, wavelength, closest, sub_length, path) -> Path:
-    """Seed 001 fig 5: along-track resolution against squint, eq 12 and measured points."""
-    from ..geometry.orbit import max_squint_for, resolution_vs_squint
-    q = np.linspace(-20, 20, 201)
+def resolution_squint_figure(squints, measured, q, theory, qm, path) -> Path:
+    """Seed 001 fig 5: along-track resolution against squint, eq 12 (``theory`` at squints ``q``,
+    deg, m) and measured points; ``qm`` the squint within which it stays within 1.1x."""
     fig, ax = plt.subplots(figsize=(5.8, 3.8))
-    ax.plot(q, 100 * resolution_vs_squint(wavelength, closest, sub_length, q), "k-", label="eq 12")
+    ax.plot(q, 100 * np.asarray(theory), "k-", label="eq 12")
     ax.plot(squints, 100 * np.asarray(measured), "o", label="measured (IRW / 0.886)")
-    qm = max_squint_for(1.1)
     ax.axvspan(-qm, qm, color="g", alpha=0.1, label=f"within 1.1x (|squint| < {qm:.1f} deg)")
     ax.set_xlabel("squint (deg)")
     ax.set_ylabel("along-track resolution (cm)")

@@ -1,7 +1,6 @@
 """Amplitude weighting windows and their theoretical impulse-response figures."""
 from __future__ import annotations
 
-from functools import lru_cache
 
 import numpy as np
 import lazy_loader as _lazy
@@ -30,21 +29,3 @@ def window(name: str, n: int, nbar: int = 4, sll: float = 35.0) -> np.ndarray:
     raise ValueError(f"unknown window {name!r}")
 
 
-@lru_cache(maxsize=64)
-def window_ipr(name: str, nbar: int = 4, sll: float = 35.0, n: int = 512, up: int = 64) -> dict:
-    """Theoretical IRW factor, PSLR and ISLR of a window's impulse response.
-
-    The IRW factor multiplies the unweighted resolution (1/bandwidth): 0.886 for no window.
-    ISLR integrates over +-10 resolution cells outside the main lobe (between first nulls),
-    the same span that :func:`salkit.metrics.pointtarget.ipr_1d` uses.
-    """
-    from ..metrics.pointtarget import ipr_1d
-
-    w = window(name, n, nbar, sll)
-    spec = np.zeros(n * up, complex)
-    spec[:n] = w
-    h = np.fft.fftshift(np.fft.ifft(spec))
-    x = (np.arange(n * up) - n * up // 2) / up  # in resolution cells (1/bandwidth)
-    m = ipr_1d(h, dx=1.0 / up, resolution=1.0)
-    del x
-    return {"irw_factor": m["irw"], "pslr_db": m["pslr_db"], "islr_db": m["islr_db"]}

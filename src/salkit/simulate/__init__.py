@@ -132,45 +132,46 @@ def photon_noise(signal: np.ndarray, noise: Noise, rng: np.random.Generator) -> 
     return signal
 
 
-def memory_estimate(scenario: Scenario, focus: bool = False) -> tuple[float, str]:
-    """Peak memory of simulating a scenario (and with ``focus`` of focusing it too), bytes.
-
-    From the pulse count (:func:`~salkit.geometry.collection.pulse_count`, nothing built), an upper
-    bound on the samples per pulse ((ADC gate or pulse width) x ADC rate + 1) and the scatterer
-    count: the complex64 signal twice (noise, the dataset), the per-pulse geometry, the scatterers;
-    focusing adds the deskew buffers (2N-point FFTs in and out, the phase history: 6 signals more)
-    and the image (:func:`salkit.focus.memory_estimate`).
+def signal_shape(scenario: Scenario) -> tuple[int, int]:
+    """Pulses and an upper bound on the samples per pulse of :func:`simulate`, without building
+    anything: (pulse count, (ADC gate or pulse width) x ADC rate + 1).
 
     Parameters
     ----------
     scenario : Scenario
-    focus : bool
-        Include focusing the result.
+
+    Returns
+    -------
+    (int, int)
+    """
+    from ..geometry.collection import pulse_count
+    gate = scenario.receiver.gate or scenario.waveform.pulse_width
+    return pulse_count(scenario), int(gate * scenario.receiver.adc_rate) + 1
+
+
+def memory_estimate(scenario: Scenario) -> tuple[float, str]:
+    """Peak memory of simulating a scenario, bytes, from its sizes (nothing is built).
+
+    The complex64 signal twice (noise, the dataset), 2 kB per pulse (geometry and the sampling
+    check's probes), 48 bytes per scatterer.
+
+    Parameters
+    ----------
+    scenario : Scenario
 
     Returns
     -------
     (float, str)
         Bytes, and the sizes that drive it (for messages).
     """
-    from ..geometry.collection import pulse_count
-    P = pulse_count(scenario)
-    gate = scenario.receiver.gate or scenario.waveform.pulse_width
-    N = int(gate * scenario.receiver.adc_rate) + 1
+    P, N = signal_shape(scenario)
     sc = scenario.scene
     n_scat = len(sc.points)
     if sc.extended is not None:
         n_scat += int((sc.extended.extent[0] / sc.extended.spacing + 1) * (sc.extended.extent[1] / sc.extended.spacing + 1))
     sig = 8.0 * P * N
-    need = 2 * sig + 2048.0 * P + 48.0 * n_scat  # per pulse: geometry and the sampling check's probes
-    what = f"simulating {P} pulses x {N} samples ({sig / 2 ** 30:.3g} GiB of signal), {n_scat} scatterers"
-    if focus and scenario.processing is not None:
-        from ..focus import memory_estimate as focus_estimate
-        g = scenario.processing.grid
-        f_need, _ = focus_estimate(P, N, g.nx, g.ny, scenario.processing.algorithm, raw=True)
-        need = max(need, f_need + sig)
-        what = (f"simulating and focusing {P} pulses x {N} samples ({sig / 2 ** 30:.3g} GiB of signal) onto "
-                f"{g.nx} x {g.ny} pixels")
-    return need, what
+    need = 2 * sig + 2048.0 * P + 48.0 * n_scat
+    return need, f"simulating {P} pulses x {N} samples ({sig / 2 ** 30:.3g} GiB of signal), {n_scat} scatterers"
 
 
 def signal_scale(scenario: Scenario, collection: Collection, n_samples: int) -> float:
@@ -283,7 +284,7 @@ def simulate(scenario: Scenario, progress: ProgressFn = None, noise: bool | None
     ds = make_raw_dataset(sig, col, t, scenario, signal_units=units, noise=use_noise)
     refc = scenario.receiver.reference_channel
     if refc is not None:
-        from ..focus.chirpcorr import reference_beat
+        from ..signals.chirp import reference_beat
         w = scenario.waveform
         ref = reference_beat(t, w.carrier_frequency, w.rate, w.nonlinearity, refc.delay)
         sd = 10 ** (-refc.snr_db / 20) / math.sqrt(2)

@@ -18,6 +18,7 @@ from ..geometry.collection import build_collection
 from ..geometry.sampling import check_sampling
 from ..io.datasets import write_dataset, write_json_atomic, write_text_atomic
 from ..metrics import measure, snr_against_truth
+from ..metrics.pointtarget import cut_curves
 from ..params.models import Processing, Scenario
 from ..params.scenario import dump_scenario
 from ..simulate import simulate
@@ -35,6 +36,29 @@ def _flat_numbers(d: dict) -> dict:
         elif isinstance(v, (int, float, np.integer, np.floating)):
             out[k] = float(v) if isinstance(v, (float, np.floating)) else int(v)
     return out
+
+
+def run_memory_estimate(scenario: Scenario) -> tuple[float, str]:
+    """Peak memory of :func:`run`: the larger of simulating and of focusing while the raw signal is
+    held (:func:`salkit.simulate.memory_estimate`, :func:`salkit.focus.memory_estimate`), bytes.
+
+    Parameters
+    ----------
+    scenario : Scenario
+
+    Returns
+    -------
+    (float, str)
+    """
+    from ..focus import memory_estimate as focus_estimate
+    from ..simulate import memory_estimate as simulate_estimate, signal_shape
+
+    sim, _ = simulate_estimate(scenario)
+    P, N = signal_shape(scenario)
+    g = scenario.processing.grid
+    foc, _ = focus_estimate(P, N, g.nx, g.ny, scenario.processing.algorithm, raw=True)
+    return max(sim, foc + 8.0 * P * N), (f"simulating and focusing {P} pulses x {N} samples "
+                                         f"({8.0 * P * N / 2 ** 30:.3g} GiB of signal) onto {g.nx} x {g.ny} pixels")
 
 
 def analyse_image(image: xr.Dataset, scenario: Scenario | None) -> tuple[dict, dict]:
@@ -133,7 +157,7 @@ def report_outputs(out: Path, image: xr.Dataset, metrics: dict, details: dict, s
     figs = [("Focused image (dB)", "image.png")]
     plot.image_db(image, out / "image.png", title=f"{name}: {image.attrs.get('algorithm')} image", truth=truth)
     if "_cut_range" in details:
-        plot.cuts(details, metrics, image.attrs, out / "cuts.png")
+        plot.cuts(cut_curves(details, image.attrs), metrics, out / "cuts.png")
         figs.append(("Cuts through the brightest target against theory", "cuts.png"))
     if (out / "autofocus.png").exists():
         figs.append(("Autofocus history", "autofocus.png"))

@@ -23,7 +23,7 @@ from ..io.datasets import FORMAT_VERSION, _attrs_clean, _version, make_image_dat
     write_json_atomic, write_text_atomic
 from ..metrics import measure
 from ..params.scenario import dump_scenario
-from ..signals.windows import window_ipr
+from ..metrics.pointtarget import window_ipr
 from ..simulate.downlooking import (DLScatterers, Disturbances, add_receiver_noise, fast_time, make_scatterers,
                                     no_disturbance, simulate_factored, simulate_fields, track_positions)
 
@@ -459,7 +459,8 @@ def run(scenario, out_dir, progress: Progress = None) -> dict:
                                                            / max(np.abs(imgs.forward).max(), 1e-30) / 2)
     plot.image_db(ds_pt, out / "image_point.png", title="point target, eq-19 image (forward + backward)",
                   truth=truth)
-    plot.cuts(m_pt, metrics, ds_pt.attrs, out / "cuts_point.png")
+    from ..metrics.pointtarget import cut_curves
+    plot.cuts(cut_curves(m_pt, ds_pt.attrs), metrics, out / "cuts_point.png")
     dlplot.raw_current(cur, Y, fast_time(d, exp.scan.duration), out / "raw_point.png")
 
     # 2. extended scene: fringes, fringe period, paper order

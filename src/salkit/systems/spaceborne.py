@@ -130,8 +130,8 @@ def stack_memory_estimate(base: Scenario, count: int, workers: int) -> tuple[flo
     -------
     (float, str)
     """
-    from ..simulate import memory_estimate
-    one, _ = memory_estimate(base, focus=True)
+    from .airborne import run_memory_estimate
+    one, _ = run_memory_estimate(base)
     g = base.processing.grid
     stack_bytes = 4.0 * count * g.nx * g.ny
     return (workers + 1) * one + 2 * stack_bytes, (f"stacking {count} sub-images of {g.nx} x {g.ny} pixels on "
@@ -360,8 +360,11 @@ def run(scenario: Scenario, out_dir, progress=None) -> dict:
         metrics[f"resolution_azimuth_squint_{q:g}_theory_m"] = float(resolution_vs_squint(
             base.waveform.wavelength, L0, col.n_pulses * base.platform.speed / base.waveform.prf, q))
     metrics["max_squint_within_1p1_deg"] = max_squint_for(1.1)
-    plot.resolution_squint_figure(sq_meas, meas, base.waveform.wavelength, L0,
-                                  col.n_pulses * base.platform.speed / base.waveform.prf, out / "resolution_squint.png")
+    from ..geometry.orbit import max_squint_for, resolution_vs_squint
+    q = np.linspace(-20, 20, 201)
+    sub_len = col.n_pulses * base.platform.speed / base.waveform.prf
+    plot.resolution_squint_figure(sq_meas, meas, q, resolution_vs_squint(base.waveform.wavelength, L0, sub_len, q),
+                                  max_squint_for(1.1), out / "resolution_squint.png")
     plot.spaceborne_figures(truth, fig7, np.abs(single), np.sqrt(stacked), counts, curve, nz.snr_theory,
                             az, rg, out)
     metrics["run_s"] = time.perf_counter() - t0
