@@ -9,12 +9,13 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from ..choices import AUTOFOCUS_METHODS, IMAGE_AUTOFOCUS_METHODS
 from ..errors import ScenarioError
 from .pga import KERNELS, AutofocusResult, estimate_phase, min_entropy, pga
 from .sharpness import PulseAutofocusResult, pulse_sharpness
 
-METHODS = ("none", "pga", "min-entropy", "pulse")
-IMAGE_METHODS = ("none", "pga", "min-entropy")
+METHODS = AUTOFOCUS_METHODS
+IMAGE_METHODS = IMAGE_AUTOFOCUS_METHODS
 
 
 def autofocus(image: xr.Dataset, method: str = "pga", kernel: str = "lumv", max_iter: int = 30,

@@ -15,7 +15,7 @@ import scipy.fft as sfft
 
 from ..metrics.image import entropy
 
-KERNELS = ("pd", "lumv", "ev")
+from ..choices import PGA_KERNELS as KERNELS  # noqa: E402
 
 
 @dataclass

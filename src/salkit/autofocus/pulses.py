@@ -12,7 +12,7 @@ import time
 import numpy as np
 import xarray as xr
 
-from ..errors import ScenarioError
+from ..choices import PLANES, check_choice
 from ..focus import PhaseHistory, default_grid, phase_history
 from ..focus.backprojection import pulse_contributions
 from ..geometry.collection import grid_axes, plane_from
@@ -148,8 +148,7 @@ def pulse_autofocus(raw: xr.Dataset, grid: Grid | None = None, *, chirp_correcti
     ph = phase_history(raw, chirp_correction)
     g = grid if grid is not None else default_grid(ph, plane=plane or "slant")
     if plane is not None:
-        if plane not in ("slant", "ground"):
-            raise ScenarioError("plane", plane, "must be one of slant, ground")
+        check_choice("plane", plane, PLANES)
         g = g.model_copy(update={"plane": plane})
     t0 = time.perf_counter()
     pts = select_pixels(ph, g, max_entries)

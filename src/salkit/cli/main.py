@@ -263,14 +263,12 @@ def focus(raw: Path = typer.Argument(..., help="raw or phase-history NetCDF file
     from ..io import read_raw
     from ..systems.airborne import focus_file
     from ..errors import ScenarioError
-    if algorithm is not None and algorithm not in ("bp", "pfa", "omegak"):
-        raise ScenarioError("--algorithm", algorithm, "must be one of bp, pfa, omegak")
-    if window is not None and window not in ("none", "hamming", "taylor"):
-        raise ScenarioError("--window", window, "must be one of none, hamming, taylor")
-    if autofocus is not None and autofocus not in ("none", "pga", "min-entropy", "pulse"):
-        raise ScenarioError("--autofocus", autofocus, "must be one of none, pga, min-entropy, pulse")
-    if kernel is not None and kernel not in ("pd", "lumv", "ev"):
-        raise ScenarioError("--kernel", kernel, "must be one of pd, lumv, ev")
+    from ..choices import ALGORITHMS, AUTOFOCUS_METHODS, PGA_KERNELS, PLANES, WINDOWS, check_choice
+    for opt, v, allowed in (("--algorithm", algorithm, ALGORITHMS), ("--window", window, WINDOWS),
+                            ("--autofocus", autofocus, AUTOFOCUS_METHODS), ("--kernel", kernel, PGA_KERNELS),
+                            ("--plane", plane, PLANES)):
+        if v is not None:
+            check_choice(opt, v, allowed)
     from ..io import open_dataset, read_phase_data
     if raw.suffix.lower() in (".cphd", ".mat"):
         probe = None
@@ -283,8 +281,6 @@ def focus(raw: Path = typer.Argument(..., help="raw or phase-history NetCDF file
             focus_raw_file(probe, tmp)
         globals()["out"].print(f"wrote {Path(out_dir) / 'image.nc'}")
         return
-    if plane is not None and plane not in ("slant", "ground"):
-        raise ScenarioError("--plane", plane, "must be one of slant, ground")
     ds = read_phase_data(raw)
     grid = _grid(nx, ny, dx, dy, plane or "slant")
     if grid is None and plane is not None:

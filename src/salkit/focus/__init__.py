@@ -9,6 +9,7 @@ from typing import Callable, Optional
 import numpy as np
 import xarray as xr
 
+from ..choices import ALGORITHMS, PLANES, check_choice
 from ..constants import SPEED_OF_LIGHT
 from ..errors import DataFileError, ScenarioError
 from ..geometry.collection import (angle_between, beam_gain_table, grid_axes, plane_from, truth_positions,
@@ -25,7 +26,6 @@ from .pfa import pfa as polar_format  # keep salkit.focus.pfa the module
 from .rangecomp import range_compress
 from .stripmap_bp import stripmap_backprojection
 
-ALGORITHMS = ("bp", "pfa", "omegak")
 
 
 @dataclass(frozen=True)
@@ -188,8 +188,8 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, algorithm
     alg = algorithm or (processing.algorithm if processing else "bp")
     if alg not in ALGORITHMS:
         raise ScenarioError("processing.algorithm", alg, f"must be one of {ALGORITHMS}")
-    if plane is not None and plane not in ("slant", "ground"):
-        raise ScenarioError("plane", plane, "must be one of slant, ground")
+    if plane is not None:
+        check_choice("plane", plane, PLANES)
     g = grid or (processing.grid if processing else default_grid(ph, plane=plane or "slant"))
     if plane is not None and g.plane != plane:
         g = g.model_copy(update={"plane": plane})

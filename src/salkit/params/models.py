@@ -11,6 +11,7 @@ from typing import Literal, Optional
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
+from ..choices import ALGORITHMS, AUTOFOCUS_METHODS, CHIRP_CORRECTIONS, PGA_KERNELS, PLANES, WINDOWS
 from ..constants import SPEED_OF_LIGHT
 
 
@@ -299,7 +300,7 @@ class Grid(_Frozen):
     ny: int = Field(gt=1, le=32768, description="number of range samples")
     dx: float = Field(gt=0, description="azimuth spacing, m")
     dy: float = Field(gt=0, description="range spacing, m")
-    plane: Literal["slant", "ground"] = "slant"
+    plane: Literal[PLANES] = "slant"
     center: tuple[float, float] = (0.0, 0.0)
 
     @property
@@ -311,17 +312,17 @@ class Grid(_Frozen):
 class Processing(_Frozen):
     """Image formation settings."""
 
-    algorithm: Literal["pfa", "bp", "omegak"] = "bp"
-    window: Literal["none", "hamming", "taylor"] = "none"
+    algorithm: Literal[ALGORITHMS] = "bp"
+    window: Literal[WINDOWS] = "none"
     taylor_nbar: int = Field(default=4, ge=1)
     taylor_sll: float = Field(default=35.0, gt=13.3, description="Taylor sidelobe level, dB")
     grid: Grid
-    autofocus: Literal["none", "pga", "min-entropy", "pulse"] = Field(
+    autofocus: Literal[AUTOFOCUS_METHODS] = Field(
         default="none", description="pga / min-entropy on the image; pulse: one phase per pulse on the phase history")
-    autofocus_kernel: Literal["pd", "lumv", "ev"] = "lumv"
+    autofocus_kernel: Literal[PGA_KERNELS] = "lumv"
     autofocus_max_iter: int = Field(default=30, ge=1, le=500)
     range_upsample: int = Field(default=8, ge=2, le=64, description="backprojection profile upsampling")
-    chirp_correction: Literal["none", "resample", "deskew"] = Field(
+    chirp_correction: Literal[CHIRP_CORRECTIONS] = Field(
         default="none", description="nonlinear-chirp correction from the reference channel")
 
 

@@ -1,0 +1,40 @@
+"""The allowed choices, named once: the scenario models, the command line, the algorithms and the
+tests all read them from here."""
+
+#: Image formers: backprojection, polar format, omega-k.
+ALGORITHMS = ("bp", "pfa", "omegak")
+#: Amplitude windows.
+WINDOWS = ("none", "hamming", "taylor")
+#: Image planes of a grid.
+PLANES = ("slant", "ground")
+#: Autofocus methods: on the image (PGA, minimum entropy) or per pulse on the phase history.
+AUTOFOCUS_METHODS = ("none", "pga", "min-entropy", "pulse")
+#: Autofocus methods that work on a formed image.
+IMAGE_AUTOFOCUS_METHODS = ("none", "pga", "min-entropy")
+#: PGA phase-gradient kernels: phase difference, linear unbiased minimum variance, eigenvector.
+PGA_KERNELS = ("pd", "lumv", "ev")
+#: Nonlinear-chirp corrections from the reference channel.
+CHIRP_CORRECTIONS = ("none", "resample", "deskew")
+
+
+def check_choice(field: str, value, allowed: tuple) -> None:
+    """Raise :class:`~salkit.errors.ScenarioError` naming ``field`` unless ``value`` is allowed.
+
+    Parameters
+    ----------
+    field : str
+        Field or option name, for the message.
+    value : object
+    allowed : tuple of str
+
+    Raises
+    ------
+    ScenarioError
+
+    Examples
+    --------
+    >>> check_choice("--plane", "ground", PLANES)
+    """
+    from .errors import ScenarioError
+    if value not in allowed:
+        raise ScenarioError(field, value, f"must be one of {', '.join(allowed)}")
