@@ -48,7 +48,7 @@ class TurbulentPath:
         """Largest extents (along a, along b) the rays cover on any layer, m."""
         ext_a, ext_b = 0.0, 0.0
         for zi in self.z:
-            q = _crossings(positions, targets, zi, self.u0)
+            q = ray_crossings(positions, targets, zi, self.u0)
             ext_a = max(ext_a, float(np.ptp(q @ self.a)))
             ext_b = max(ext_b, float(np.ptp(q @ self.b)))
         return ext_a, ext_b
@@ -59,7 +59,9 @@ class TurbulentPath:
         return sum(structure_function(d * zi / slant_range, ri) for zi, ri in zip(self.z, self.r0))
 
 
-def _crossings(positions, targets, z, u0):
+def ray_crossings(positions, targets, z, u0):
+    """Where the rays from ``positions`` (P, 3) to ``targets`` (T, 3) cross the layer at distance
+    ``z`` (m) along the path axis ``u0``: points (P * T, 3), m."""
     p = positions[:, None, :]
     t = targets[None, :, :]
     lam = (z - t @ u0) / np.maximum((p - t) @ u0, 1e-30)

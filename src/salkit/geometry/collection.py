@@ -135,7 +135,7 @@ def first_null_sin(wavelength: float, diameter: float) -> float:
     return 1.2196698912665045 * wavelength / diameter
 
 
-_first_null_sin = first_null_sin
+
 
 
 def two_way_3db_sin(wavelength: float, diameter: float) -> float:
@@ -148,7 +148,7 @@ def two_way_3db_sin(wavelength: float, diameter: float) -> float:
 def footprint(scenario: Scenario) -> float:
     """Null-to-null azimuth footprint of the beam at the scene centre, m."""
     p = scenario.platform
-    return 2.0 * _first_null_sin(scenario.waveform.wavelength, p.real_aperture) * _centre_range(scenario)
+    return 2.0 * first_null_sin(scenario.waveform.wavelength, p.real_aperture) * _centre_range(scenario)
 
 
 def _centre_range(scenario: Scenario) -> float:

@@ -10,11 +10,11 @@ import numpy as np
 from ..constants import SPEED_OF_LIGHT
 from ..errors import SamplingError, ScenarioError
 from ..params.models import Scenario
-from .collection import (Collection, _first_null_sin, build_collection, footprint,
+from .collection import (Collection, first_null_sin, build_collection, footprint,
                          scene_point_positions)
 
 
-def _scene_probe_points(scenario: Scenario) -> np.ndarray:
+def scene_probe_points(scenario: Scenario) -> np.ndarray:
     """Points that bound the scene: point targets and the corners/edges of the extended scene."""
     pts = [scene_point_positions(scenario)]
     ext = scenario.scene.extended
@@ -36,8 +36,8 @@ def _illuminated(col: Collection, pts: np.ndarray, sin_null: float) -> np.ndarra
 def delay_spread(scenario: Scenario, col: Collection | None = None) -> tuple[float, float]:
     """Min and max differential delay 2(R - R_ref)/c over the illuminated scene, s."""
     col = col if col is not None else build_collection(scenario)
-    pts = _scene_probe_points(scenario)
-    sin_null = _first_null_sin(scenario.waveform.wavelength, scenario.platform.real_aperture)
+    pts = scene_probe_points(scenario)
+    sin_null = first_null_sin(scenario.waveform.wavelength, scenario.platform.real_aperture)
     mask = _illuminated(col, pts, sin_null)
     dr = np.linalg.norm(pts[None, :, :] - col.positions[:, None, :], axis=2) - col.reference_range[:, None]
     dr = np.where(mask, dr, np.nan)
@@ -114,8 +114,8 @@ def check_sampling(scenario: Scenario, col: Collection | None = None) -> Samplin
     col = col if col is not None else build_collection(scenario)
     w, p, rx, proc = scenario.waveform, scenario.platform, scenario.receiver, scenario.processing
     lam = w.wavelength
-    pts = _scene_probe_points(scenario)
-    sin_null = _first_null_sin(lam, p.real_aperture)
+    pts = scene_probe_points(scenario)
+    sin_null = first_null_sin(lam, p.real_aperture)
     # Doppler spread of the illuminated scene, at the worst pulse.
     mask = _illuminated(col, pts, sin_null)
     rel = pts[None, :, :] - col.positions[:, None, :]

@@ -37,7 +37,8 @@ def finish_atomic(tmp: str, path: Path) -> None:
 RAW_KINDS = ("raw", "phase_history")
 
 
-def _attrs_clean(attrs: dict) -> dict:
+def clean_attrs(attrs: dict) -> dict:
+    """Attributes NetCDF can store: None dropped, booleans as 0/1, sequences as float64 arrays."""
     out = {}
     for k, v in attrs.items():
         if v is None:
@@ -50,7 +51,8 @@ def _attrs_clean(attrs: dict) -> dict:
     return out
 
 
-def _version() -> str:
+def salkit_version() -> str:
+    """The installed salkit version (for file attributes)."""
     from .. import __version__
     return __version__
 
@@ -91,10 +93,10 @@ def make_raw_dataset(signal: np.ndarray, collection, fast_time: np.ndarray, scen
                                                    "long_name": "time after the reference delay"}),
             "xyz": ("xyz", ["x", "y", "z"]),
         },
-        attrs=_attrs_clean({
+        attrs=clean_attrs({
             "salkit_kind": "raw",
             "salkit_format": FORMAT_VERSION,
-            "salkit_version": _version(),
+            "salkit_version": salkit_version(),
             "wavelength": w.wavelength,
             "carrier_frequency": w.carrier_frequency,
             "chirp_rate": w.rate,
@@ -140,7 +142,7 @@ def make_image_dataset(image: np.ndarray, az: np.ndarray, rg: np.ndarray, plane,
         data["target_azimuth"] = (("target",), truth[:, 0], {"units": "m"})
         data["target_range"] = (("target",), truth[:, 1], {"units": "m"})
     a = dict(attrs)
-    a.update({"salkit_kind": "image", "salkit_format": FORMAT_VERSION, "salkit_version": _version(),
+    a.update({"salkit_kind": "image", "salkit_format": FORMAT_VERSION, "salkit_version": salkit_version(),
               "plane_origin": plane.origin - (plane.origin @ plane.azimuth) * plane.azimuth
               - (plane.origin @ plane.range) * plane.range,
               "azimuth_axis": plane.azimuth, "range_axis": plane.range})
@@ -148,7 +150,7 @@ def make_image_dataset(image: np.ndarray, az: np.ndarray, rg: np.ndarray, plane,
         data_vars=data,
         coords={"azimuth": ("azimuth", np.asarray(az, np.float64), {"units": "m"}),
                 "range": ("range", np.asarray(rg, np.float64), {"units": "m"})},
-        attrs=_attrs_clean(a),
+        attrs=clean_attrs(a),
     )
 
 

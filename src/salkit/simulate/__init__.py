@@ -198,14 +198,14 @@ def turbulent_path(scenario: Scenario, col: Collection):
     Raises ScenarioError when an explicit ``atmosphere.screen_n`` is smaller than the area the rays
     cross on some layer (the screen would be clamped at its edge).
     """
-    from ..atmosphere.path import _crossings, build_path
+    from ..atmosphere.path import ray_crossings, build_path
     from ..errors import ScenarioError
-    from ..geometry.sampling import _scene_probe_points
+    from ..geometry.sampling import scene_probe_points
 
     atm = scenario.atmosphere
     u0 = col.center_position / np.linalg.norm(col.center_position)
     R = float(np.linalg.norm(col.center_position))
-    probe = _scene_probe_points(scenario)
+    probe = scene_probe_points(scenario)
     # extent the rays cover on the layers: scene extent near the target, aperture near the platform
     ends = np.stack([col.positions[0], col.positions[-1], col.positions[col.n_pulses // 2]])
     a = col.track - np.dot(col.track, u0) * u0
@@ -213,7 +213,7 @@ def turbulent_path(scenario: Scenario, col: Collection):
     b = np.cross(u0, a)
     need = 0.0
     for frac in (0.0, 0.5, 1.0 - 0.5 / atm.layers):
-        q = _crossings(ends, probe, frac * R, u0)
+        q = ray_crossings(ends, probe, frac * R, u0)
         need = max(need, float(np.ptp(q @ a)), float(np.ptp(q @ b)))
     n_need = int(math.ceil(need / atm.screen_dx)) + 8
     if atm.screen_n is not None and atm.screen_n < n_need:

@@ -19,7 +19,7 @@ import xarray as xr
 from ..focus.downlooking import DLImages, focus_downlooking
 from ..geometry.collection import ImagePlane
 from ..geometry.downlooking import DLDesign, boresight_frame, design
-from ..io.datasets import FORMAT_VERSION, _attrs_clean, _version, make_image_dataset, write_dataset, \
+from ..io.datasets import FORMAT_VERSION, clean_attrs, salkit_version, make_image_dataset, write_dataset, \
     write_json_atomic, write_text_atomic
 from ..metrics import measure
 from ..params.scenario import dump_scenario
@@ -73,7 +73,7 @@ def image_dataset(img: np.ndarray, imgs: DLImages, d: DLDesign, exp, look: float
 
 def raw_dataset(current: np.ndarray, Y: np.ndarray, t: np.ndarray, d: DLDesign, scenario_text: str) -> xr.Dataset:
     """The balanced-detector current as a labelled dataset (data-format.md, DL-SAL raw data)."""
-    at = {"salkit_kind": "raw_downlooking", "salkit_format": FORMAT_VERSION, "salkit_version": _version(),
+    at = {"salkit_kind": "raw_downlooking", "salkit_format": FORMAT_VERSION, "salkit_version": salkit_version(),
           "scenario": scenario_text}
     at.update({f"design_{k}": v for k, v in d.as_dict().items()})
     return xr.Dataset(
@@ -83,7 +83,7 @@ def raw_dataset(current: np.ndarray, Y: np.ndarray, t: np.ndarray, d: DLDesign, 
                      {"long_name": "1 for a forward scan, 0 for a backward scan"})},
         coords={"along_track": ("scan", np.asarray(Y, np.float64), {"units": "m"}),
                 "fast_time": ("fast_time", np.asarray(t, np.float64), {"units": "s"})},
-        attrs=_attrs_clean(at))
+        attrs=clean_attrs(at))
 
 
 def image_position_theory(scat: DLScatterers, d: DLDesign, focal_transmit: float) -> np.ndarray:
