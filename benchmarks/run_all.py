@@ -193,7 +193,6 @@ def bench_outside(n_pulses=500, n_pix=256):
     per sweep on 1024 x 1024 pixels (the contribution matrix built once) against PGA per iteration
     on the same 1024 x 1024 image."""
     import tempfile
-    import xarray as xr
     from salkit.autofocus.pga import pga
     from salkit.autofocus.sharpness import pulse_sharpness
     from salkit.focus import focus
@@ -223,7 +222,7 @@ def bench_outside(n_pulses=500, n_pix=256):
         out["outside_mat_write_read_s_P500"] = time.perf_counter() - t0
         focus(back, sc.processing)
         t0 = time.perf_counter()
-        img = focus(g, sc.processing)
+        focus(g, sc.processing)
         out[f"outside_focus_bp_s_P500_N{n_pix}"] = time.perf_counter() - t0
     # autofocus at 1024 x 1024
     sc, ph = spotlight_problem(1024, 1024)

@@ -86,3 +86,19 @@ def test_image_autofocus_refuses_pulse_method(scene):
     sc, raw, clean = scene
     with pytest.raises(ScenarioError, match="phase history"):
         autofocus(focus(raw, sc.processing), "pulse")
+
+
+def test_pixel_selection_uses_its_memory_budget(scene):
+    """Pulses x pixels stays within the memory budget and uses most of it (the brightest range
+    columns when not all fit); every pixel when they all fit."""
+    from salkit.autofocus.pulses import select_pixels
+    from salkit.focus import phase_history
+    sc, raw, clean = scene
+    ph = phase_history(raw)
+    P = ph.data.shape[0]
+    g = sc.processing.grid
+    budget = P * 24 * 10  # room for 24 rows x 10 columns
+    pts = select_pixels(ph, g, max_entries=budget)
+    assert P * pts.shape[0] <= budget
+    assert pts.shape[0] >= 0.5 * budget / P  # more than a single column
+    assert select_pixels(ph, g).shape[0] == g.nx * g.ny  # all pixels when they fit

@@ -83,7 +83,6 @@ def test_focus_with_sicd_and_export(tmp_path, raw_file):
     ("missing", "lacks the variable 'reference_range'"),
 ])
 def test_unusable_phase_history_exits_2(tmp_path, raw_file, defect, msg):
-    import numpy as np
     import xarray as xr
     from salkit.focus import range_compress
     from salkit.io import read_raw

@@ -217,7 +217,6 @@ def min_entropy(image: np.ndarray, order: int | None = None, band: np.ndarray | 
     best = (history[-1]["entropy"], img, total.copy(), 1)
     for o in orders:
         r = _min_entropy_stage(img, o, band, max_iter)
-        e = r.history[-1]["entropy"]
         if r.best_iteration == 1:
             img, total = r.image, total + r.phase
         history.append({"iteration": len(history), "phase_rms": float(np.sqrt(np.mean(total[band] ** 2))),

@@ -14,7 +14,7 @@ import xarray as xr
 
 from ..choices import PLANES, check_choice
 from ..focus import PhaseHistory, default_grid, phase_history
-from ..focus.backprojection import pulse_contributions
+from ..focus.backprojection import pulse_contributions, range_profiles
 from ..geometry.collection import grid_axes, plane_from
 from ..params.models import Grid
 from .sharpness import PulseAutofocusResult, pulse_sharpness
@@ -43,10 +43,9 @@ def select_pixels(ph: PhaseHistory, grid: Grid, max_entries: int = MAX_ENTRIES) 
     plane = plane_from(ph.track, ph.center_position, grid.plane)
     az, rg = grid_axes(grid)
     P = ph.data.shape[0]
-    ncol = max(1, min(rg.size, max_entries // max(P * az.size, 1)))
     rows = az if P * az.size <= max_entries else az[:: int(np.ceil(P * az.size / max_entries))]
+    ncol = max(1, min(rg.size, max_entries // max(P * rows.size, 1)))
     if ncol < rg.size:
-        from ..focus.backprojection import range_profiles
         prof, r0, dr, _ = range_profiles(ph.data[:: max(1, P // 64)], ph.freq, 2, np.ones(ph.freq.size))
         energy = np.sum(np.abs(prof) ** 2, axis=0)
         look = -ph.center_position / np.linalg.norm(ph.center_position)

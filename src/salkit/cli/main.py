@@ -8,7 +8,6 @@ from __future__ import annotations
 import functools
 import json
 import math
-import shutil
 import sys
 from pathlib import Path
 from typing import List, Optional
@@ -260,9 +259,7 @@ def focus(raw: Path = typer.Argument(..., help="raw or phase-history NetCDF file
           sicd: bool = typer.Option(False, "--sicd", help="also write the image as SICD (image.nitf), checked by sarkit"),
           overwrite: bool = typer.Option(False, "--overwrite", help="replace a non-empty --out once the new run is complete")):
     """Focus a raw file (.nc, .cphd or GOTCHA .mat) into image.nc, metrics.json, figures and report.html."""
-    from ..io import read_raw
     from ..systems.airborne import focus_file
-    from ..errors import ScenarioError
     from ..choices import ALGORITHMS, AUTOFOCUS_METHODS, PGA_KERNELS, PLANES, WINDOWS, check_choice
     for opt, v, allowed in (("--algorithm", algorithm, ALGORITHMS), ("--window", window, WINDOWS),
                             ("--autofocus", autofocus, AUTOFOCUS_METHODS), ("--kernel", kernel, PGA_KERNELS),

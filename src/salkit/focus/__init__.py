@@ -269,6 +269,24 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, algorithm
     return add_collection_geometry(out, raw, ph)
 
 
+def grid_of(image: xr.Dataset) -> Grid:
+    """The :class:`~salkit.params.models.Grid` an image was formed on (size, spacing, plane, centre).
+
+    Parameters
+    ----------
+    image : xarray.Dataset
+        salkit image.
+
+    Returns
+    -------
+    Grid
+    """
+    az, rg = image["azimuth"].values, image["range"].values
+    return Grid(nx=az.size, ny=rg.size, dx=float(az[1] - az[0]), dy=float(rg[1] - rg[0]),
+                plane=str(image.attrs.get("plane", "slant")),
+                center=(float(az[az.size // 2]), float(rg[rg.size // 2])))
+
+
 def add_collection_geometry(image: xr.Dataset, raw: xr.Dataset, ph: PhaseHistory) -> xr.Dataset:
     """Carry the per-pulse antenna positions and times of the collection with its image
     (variables ``collection_position`` (pulse, xyz), m, and ``collection_time`` (pulse,), s), so
@@ -288,7 +306,7 @@ def add_collection_geometry(image: xr.Dataset, raw: xr.Dataset, ph: PhaseHistory
     return image
 
 
-__all__ = ["ALGORITHMS", "PhaseHistory", "default_grid", "focus", "memory_estimate", "phase_history", "range_compress",
+__all__ = ["ALGORITHMS", "PhaseHistory", "default_grid", "focus", "grid_of", "memory_estimate", "phase_history", "range_compress",
            "theory_resolution"]
 
 

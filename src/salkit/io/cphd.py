@@ -13,7 +13,6 @@ of sight at the reference range (so |TxPos - SRPPos| = R_ref).
 from __future__ import annotations
 
 import datetime as _dt
-import os
 from pathlib import Path
 
 import numpy as np
@@ -277,7 +276,6 @@ def read_cphd(path: str | Path, channel: str | None = None) -> xr.Dataset:
     sig = np.asarray(data, np.complex64)
     if sgn == 1:
         sig = np.conj(sig)
-    P = sig.shape[0]
     mode = tree.findtext("{*}CollectionID/{*}RadarMode/{*}ModeType") or "SPOTLIGHT"
     attrs = {"salkit_kind": "phase_history", "salkit_format": "1.0", "origin_llh": llh,
              "mode": "stripmap" if mode.upper() == "STRIPMAP" else "spotlight", "source_format": "CPHD 1.0",
@@ -306,6 +304,20 @@ def failures_by_severity(con) -> dict:
     return out
 
 
+def run_checker(checker_cls, path: str | Path, **kw) -> dict:
+    """Run a sarkit consistency checker class (``CphdConsistency``, ``SicdConsistency``) on a file.
+
+    Returns
+    -------
+    dict
+        :func:`failures_by_severity` of the result.
+    """
+    with open(path, "rb") as fh:
+        con = checker_cls.from_file(fh, **kw)
+        con.check()
+    return failures_by_severity(con)
+
+
 def check_cphd(path: str | Path) -> dict:
     """Run sarkit's CPHD consistency checker (schema included, thorough).
 
@@ -319,10 +331,7 @@ def check_cphd(path: str | Path) -> dict:
         ``errors`` and ``warnings``: lists of "check: requirement" lines (empty when consistent).
     """
     from sarkit.verification import CphdConsistency
-    with open(path, "rb") as fh:
-        con = CphdConsistency.from_file(fh, thorough=True)
-        con.check()
-    return failures_by_severity(con)
+    return run_checker(CphdConsistency, path, thorough=True)
 
 
 __all__ = ["DEFAULT_ORIGIN", "check_cphd", "failures_by_severity", "local_frame", "read_cphd", "write_cphd"]

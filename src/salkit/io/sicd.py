@@ -21,7 +21,7 @@ import xarray as xr
 
 from ..constants import SPEED_OF_LIGHT
 from ..errors import DataFileError
-from .cphd import DEFAULT_ORIGIN, _f, _xyz, failures_by_severity, local_frame
+from .cphd import DEFAULT_ORIGIN, _f, _xyz, local_frame, run_checker
 from .datasets import atomic_path
 
 NS = "urn:SICD:1.3.0"
@@ -249,10 +249,7 @@ def check_sicd(path: str | Path) -> dict:
         ``errors`` and ``warnings``: lists of "check: requirement" lines.
     """
     from sarkit.verification import SicdConsistency
-    with open(path, "rb") as fh:
-        con = SicdConsistency.from_file(fh)
-        con.check()
-    return failures_by_severity(con)
+    return run_checker(SicdConsistency, path)
 
 
 __all__ = ["check_sicd", "read_sicd", "sicd_xml", "write_sicd"]

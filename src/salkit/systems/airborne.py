@@ -13,7 +13,7 @@ import numpy as np
 import xarray as xr
 
 from .. import __version__
-from ..focus import focus
+from ..focus import focus, grid_of
 from ..geometry.collection import build_collection
 from ..geometry.sampling import check_sampling
 from ..io.datasets import write_dataset, write_json_atomic, write_text_atomic
@@ -251,15 +251,9 @@ def focus_file(raw: xr.Dataset, out_dir: str | Path, processing: Processing | No
     if method == "pulse":
         before = focus(raw, processing, algorithm=algorithm, window_name=window_name, grid=grid, plane=plane)
         write_dataset(before, out / "image_focus.nc")
-        g = grid if grid is not None else None
-        if g is None and before is not None:  # the same pixels as the image
-            from ..params.models import Grid
-            az, rg = before["azimuth"].values, before["range"].values
-            g = Grid(nx=az.size, ny=rg.size, dx=float(az[1] - az[0]), dy=float(rg[1] - rg[0]),
-                     plane=str(before.attrs.get("plane", "slant")),
-                     center=(float(az[az.size // 2]), float(rg[rg.size // 2])))
-        cc = (processing or (scenario.processing if scenario is not None else None))
-        raw, af_metrics = pulse_correct(raw, g, cc.chirp_correction if cc is not None else "none")
+        cc = processing or (scenario.processing if scenario is not None else None)
+        raw, af_metrics = pulse_correct(raw, grid_of(before),  # the pixels of the image
+                                        cc.chirp_correction if cc is not None else "none")
     image = focus(raw, processing, algorithm=algorithm, window_name=window_name, grid=grid, plane=plane,
                   progress=cb)
     t_focus = time.perf_counter() - t0
