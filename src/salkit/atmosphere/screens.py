@@ -28,6 +28,7 @@ import scipy.fft as sfft
 from ..errors import ScenarioError
 from ..resources import check_memory
 from .turbulence import psd
+from ..constants import FFT_WORKERS
 
 
 NEAR = 3  # FFT cells with max(|i|, |j|) <= NEAR are modelled as explicit sinusoids
@@ -222,7 +223,7 @@ def phase_screens(n: int, dx: float, r0: float, count: int = 1, seed: int | None
         rdt = np.float32 if single else np.float64
         z = rng.standard_normal((nb, m, m), dtype=rdt) + 1j * rng.standard_normal((nb, m, m), dtype=rdt)
         z *= amp[None].astype(rdt)
-        field = sfft.fft2(z, workers=-1, overwrite_x=True)[:, :n, :n]
+        field = sfft.fft2(z, workers=FFT_WORKERS, overwrite_x=True)[:, :n, :n]
         if samp.size:
             zs = (rng.standard_normal((nb, samp.size)) + 1j * rng.standard_normal((nb, samp.size))) * samp
             # sum_c zs_c ex_c(x) ey_c(y): (n, C) @ (C, n) per screen pair, complex64 GEMM

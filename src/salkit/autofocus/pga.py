@@ -16,6 +16,7 @@ import scipy.fft as sfft
 from ..metrics.image import entropy
 
 from ..choices import PGA_KERNELS as KERNELS  # noqa: E402
+from ..constants import FFT_WORKERS
 
 
 @dataclass
@@ -33,7 +34,7 @@ def _spectrum_and_band(image: np.ndarray, band):
     """Azimuth spectrum of ``image`` and the bins carrying signal (above 1e-3 of the peak of the
     range-summed power) unless ``band`` is given."""
     img = np.asarray(image, dtype=np.complex128)
-    spec = sfft.fft(img, axis=0, workers=-1)
+    spec = sfft.fft(img, axis=0, workers=FFT_WORKERS)
     if band is None:
         p = np.sum(np.abs(spec) ** 2, axis=1)
         band = p > 1e-3 * p.max()
@@ -145,7 +146,7 @@ def pga(image: np.ndarray, kernel: str = "lumv", max_iter: int = 30, tol: float 
         e_line = np.sum(np.abs(windowed) ** 2, axis=0)
         dom = np.abs(windowed[n // 2]) ** 2 / np.maximum(e_line, 1e-300)
         windowed = windowed * dom[None, :]
-        G = sfft.fft(sfft.ifftshift(windowed, axes=0), axis=0, workers=-1)
+        G = sfft.fft(sfft.ifftshift(windowed, axes=0), axis=0, workers=FFT_WORKERS)
         # estimate over the contiguous band (in centred order so it does not wrap)
         bc = sfft.fftshift(band)
         sel = np.flatnonzero(bc)
@@ -157,8 +158,8 @@ def pga(image: np.ndarray, kernel: str = "lumv", max_iter: int = 30, tol: float 
         phi = sfft.ifftshift(phic)
         rms = float(np.sqrt(np.mean(est ** 2)))
         total += phi
-        spec = sfft.fft(img, axis=0, workers=-1) * np.exp(-1j * phi)[:, None]
-        img = sfft.ifft(spec, axis=0, workers=-1)
+        spec = sfft.fft(img, axis=0, workers=FFT_WORKERS) * np.exp(-1j * phi)[:, None]
+        img = sfft.ifft(spec, axis=0, workers=FFT_WORKERS)
         e = entropy(img)
         history.append({"iteration": it, "phase_rms": rms, "entropy": e, "window": width})
         if e < best[0]:
@@ -256,12 +257,12 @@ def _min_entropy_stage(image: np.ndarray, order: int | None = 24, band: np.ndarr
     def fun(c):
         phi = Bfft @ c
         H = G * np.exp(1j * phi)[:, None]
-        I = sfft.ifft(H, axis=0, workers=-1)
+        I = sfft.ifft(H, axis=0, workers=FFT_WORKERS)
         a = np.abs(I) ** 2
         q = np.maximum(a / S, 1e-300)
         E = float(-(q * np.log(q)).sum())
         w = -(np.log(q) + 1) / S
-        Y = sfft.fft(w * I, axis=0, workers=-1)
+        Y = sfft.fft(w * I, axis=0, workers=FFT_WORKERS)
         grad_phi = -2 * np.sum(np.imag(H * np.conj(Y)), axis=1) / n
         hist.append(E)
         return E, Bfft.T @ grad_phi

@@ -223,16 +223,13 @@ def simulate(scenario: Path = typer.Argument(..., help="scenario YAML"),
     _check_out_file(out, overwrite)
     sc = load_scenario(scenario, list(set_))
     _preflight(sc)
-    if sc.is_downlooking:
-        from ..systems.downlooking import simulate_point_raw
-        raw = simulate_point_raw(sc)
-        write_dataset(raw, out)
-        globals()["out"].print(f"wrote {out} ({raw.sizes['scan']} scans x {raw.sizes['fast_time']} samples)")
-        return
     with _Bar() as bar:
         raw = sim(sc, progress=lambda d, n: bar("simulate", d, n))
     write_dataset(raw, out)
-    globals()["out"].print(f"wrote {out} ({raw.sizes['slow_time']} pulses x {raw.sizes['fast_time']} samples)")
+    if sc.is_downlooking:
+        globals()["out"].print(f"wrote {out} ({raw.sizes['scan']} scans x {raw.sizes['fast_time']} samples)")
+    else:
+        globals()["out"].print(f"wrote {out} ({raw.sizes['slow_time']} pulses x {raw.sizes['fast_time']} samples)")
 
 
 def _check_out_file(path: Path, overwrite: bool, field: str = "--out") -> None:
@@ -272,14 +269,18 @@ def focus(raw: Path = typer.Argument(..., help="raw or phase-history NetCDF file
     else:
         probe = open_dataset(raw)
     from ..io.runfolder import RunFolder
+    grid = _grid(nx, ny, dx, dy, plane or "slant")
     if probe is not None and probe.attrs.get("salkit_kind") == "raw_downlooking":
-        from ..systems.downlooking import focus_raw_file
+        from .. import plot
+        from ..focus import focus as form_image
+        from ..io import write_dataset
+        image = form_image(probe, algorithm=algorithm, window_name=window, grid=grid, plane=plane)
         with RunFolder(out_dir, overwrite=overwrite) as tmp:
-            focus_raw_file(probe, tmp)
+            write_dataset(image, tmp / "image.nc")
+            plot.image_db(image, tmp / "image.png", title="DL-SAL eq-19 image")
         globals()["out"].print(f"wrote {Path(out_dir) / 'image.nc'}")
         return
     ds = read_phase_data(raw)
-    grid = _grid(nx, ny, dx, dy, plane or "slant")
     if grid is None and plane is not None:
         src = "the scenario stored in the file" if "scenario" in ds.attrs else "the default (256 x 256 at 0.8 of the resolution)"
         out.print(f"--plane {plane} without --nx/--ny/--dx/--dy: grid size and spacing from {src}, "

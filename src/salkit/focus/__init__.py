@@ -1,100 +1,34 @@
-"""Image formation: one entry point, ``focus(raw, processing) -> image``, over interchangeable
-algorithms (``bp`` backprojection, ``pfa`` polar format, ``omegak`` wavenumber domain)."""
+"""Image formation: one entry point, ``focus(raw, processing) -> image``.
+
+``focus`` dispatches on the kind of the data (:data:`PROCESSORS`: SAL raw data and phase
+histories, down-looking SAL raw data); SAL images are formed by the registered formers
+(:data:`FORMERS`: ``bp`` backprojection, ``pfa`` polar format, ``omegak`` wavenumber domain),
+which share one signature and one normalisation (:mod:`salkit.focus.formers`).
+"""
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
 from typing import Callable, Optional
 
 import numpy as np
 import xarray as xr
 
-from ..choices import ALGORITHMS, PLANES, check_choice
-from ..constants import SPEED_OF_LIGHT
-from ..errors import DataFileError, ScenarioError
-from ..geometry.collection import (angle_between, beam_gain_table, grid_axes, plane_from, truth_positions,
-                                   two_way_3db_sin)
+from ..choices import PLANES, check_choice
+from ..errors import ScenarioError
+from ..geometry.collection import truth_positions
 from ..io.datasets import make_image_dataset
-from ..io.ingest import normalise_phase_history
-from ..params.models import Grid, Processing
-from ..resources import check_memory
 from ..metrics.pointtarget import window_ipr
-from ..signals.windows import window
-from .backprojection import backproject
-from .omegak import omegak as omega_k  # keep salkit.focus.omegak the module
-from .pfa import pfa as polar_format  # keep salkit.focus.pfa the module
+from ..params.models import Grid, Processing, Scenario
+from ..params.scenario import stored_scenario
+from ..resources import check_memory
+from ..signals.windows import Window
+from . import bp, omegak, pfa  # noqa: F401  (each registers its former)
+from .downlooking import focus_downlooking_raw
+from .formers import FORMERS, ImageGrid, ImageResult, get_former, register_former
+from .phasehistory import PhaseHistory, default_grid, phase_history, theory_resolution
 from .rangecomp import range_compress
-from .stripmap_bp import stripmap_backprojection
 
-
-
-@dataclass(frozen=True)
-class PhaseHistory:
-    """Arrays of a range-compressed collection, as the algorithms consume them."""
-
-    data: np.ndarray  # complex64 (P, M)
-    freq: np.ndarray  # float64 (M,), increasing, uniform
-    positions: np.ndarray  # float64 (P, 3), scene centre at origin
-    reference_range: np.ndarray  # float64 (P,)
-    track: np.ndarray  # unit (3,)
-    center_position: np.ndarray  # (3,)
-    mode: str
-    real_aperture: float
-    attrs: dict
-
-    @property
-    def wavelength(self) -> float:
-        """Wavelength at the reference frequency (sample M//2), m."""
-        return SPEED_OF_LIGHT / float(self.freq[self.freq.size // 2])
-
-
-def phase_history(raw: xr.Dataset, chirp_correction: str = "none") -> PhaseHistory:
-    """Range-compress ``raw`` (with an optional nonlinear-chirp correction) and extract arrays."""
-    ds = range_compress(raw, chirp_correction)
-    if raw.attrs.get("salkit_kind") == "phase_history":
-        ds = normalise_phase_history(ds)
-    data = np.asarray(ds["signal"].values, dtype=np.complex64)
-    freq = np.asarray(ds["frequency"].values, dtype=np.float64)
-    pos = np.asarray(ds["position"].values, dtype=np.float64)
-    ref = np.asarray(ds["reference_range"].values, dtype=np.float64)
-    P, M = data.shape
-    if pos.shape != (P, 3) or ref.shape != (P,):
-        raise DataFileError(f"position {pos.shape} and reference_range {ref.shape} must match "
-                            f"{P} pulses")
-    if M < 2 or P < 2:
-        raise DataFileError(f"signal has shape {data.shape}; at least 2 pulses and 2 samples are needed")
-    d = np.diff(freq)
-    if d[0] < 0:
-        freq, data = freq[::-1].copy(), data[:, ::-1].copy()
-    track = np.asarray(ds.attrs.get("track", pos[-1] - pos[0]), dtype=np.float64)
-    track = track / np.linalg.norm(track)
-    cpos = np.asarray(ds.attrs.get("center_position", pos[P // 2]), dtype=np.float64)
-    return PhaseHistory(data, freq, pos, ref, track, cpos, str(ds.attrs.get("mode", "spotlight")),
-                        float(ds.attrs.get("real_aperture", 0.0)), dict(ds.attrs))
-
-
-def theory_resolution(ph: PhaseHistory, plane) -> dict:
-    """Unweighted resolutions (m) that the data support in the image plane."""
-    c = SPEED_OF_LIGHT
-    M = ph.freq.size
-    B = M * (ph.freq[1] - ph.freq[0])
-    look = -ph.center_position / np.linalg.norm(ph.center_position)
-    rho_r = c / (2 * B) / max(abs(float(look @ plane.range)), 1e-12)
-    lam = ph.wavelength
-    if ph.mode == "stripmap" and ph.real_aperture > 0:
-        ang = 2 * math.asin(min(two_way_3db_sin(lam, ph.real_aperture), 1.0))
-    else:
-        u = ph.positions / np.linalg.norm(ph.positions, axis=1, keepdims=True)
-        P = u.shape[0]
-        ang = angle_between(u[0], u[-1]) * P / (P - 1)
-    return {"range": rho_r, "azimuth": lam / (2 * ang), "bandwidth": B, "angle": ang}
-
-
-def default_grid(ph: PhaseHistory, n: int = 256, plane: str = "slant") -> Grid:
-    """A grid of n x n pixels at 0.8 of the resolution, for data without a scenario."""
-    pl = plane_from(ph.track, ph.center_position, plane)
-    res = theory_resolution(ph, pl)
-    return Grid(nx=n, ny=n, dx=0.8 * res["azimuth"], dy=0.8 * res["range"], plane=plane)
+#: Largest ratio of grid spacing to resolution accepted (1 % for rounding in the scenario).
+GRID_SPACING_TOLERANCE = 1.01
 
 
 def memory_estimate(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str = "bp",
@@ -134,18 +68,22 @@ def memory_estimate(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: 
                   f"({algorithm})")
 
 
-def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, algorithm: str | None = None,
+def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=None, algorithm: str | None = None,
           grid: Grid | None = None, window_name: str | None = None, plane: str | None = None,
           progress: Optional[Callable[[int, int], None]] = None) -> xr.Dataset:
-    """Form a complex image from raw data or a phase history.
+    """Form a complex image from raw data or a phase history, with the processor its kind names.
 
     Parameters
     ----------
     raw : xarray.Dataset
-        A salkit raw (dechirped) or phase-history dataset (``docs/data-format.md``).
+        A salkit raw (dechirped) or phase-history dataset, or down-looking raw data
+        (``docs/data-format.md``).
     processing : Processing, optional
-        Algorithm, window and grid. Default: the processing block of the scenario stored in
-        ``raw``, else backprojection on :func:`default_grid`.
+        Algorithm, window and grid. Default: the processing block of ``scenario``, else of the
+        scenario stored in ``raw``, else backprojection on :func:`default_grid`.
+    scenario : Scenario, optional
+        The scenario ``raw`` was simulated from, when the caller has it (saves parsing the copy
+        stored in ``raw.attrs``; used for the processing defaults and the true target positions).
     algorithm : {"bp", "pfa", "omegak"}, optional
         Overrides ``processing.algorithm``.
     grid : Grid, optional
@@ -155,7 +93,7 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, algorithm
     plane : {"slant", "ground"}, optional
         Overrides the grid's image plane (the grid's size and spacing are kept).
     progress : callable, optional
-        ``progress(done, total)``.
+        ``progress(done, total)`` in pulses.
 
     Returns
     -------
@@ -163,81 +101,67 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, algorithm
         ``image`` (azimuth, range) complex64, coordinates in metres from the scene centre,
         normalised so that a unit-reflectance point at the beam centre peaks near 1.
 
+    Raises
+    ------
+    ScenarioError
+        For an unknown algorithm, a grid coarser than the resolution, or an algorithm that does not
+        fit the data (PFA on stripmap, omega-k on spotlight).
+    DataFileError
+        For inconsistent arrays.
+    ResourceError
+        When the estimated peak memory exceeds what is available.
+
     Examples
     --------
     >>> image = focus(raw, algorithm="pfa")  # doctest: +SKIP
     """
-    from ..params.scenario import parse_scenario
-    import yaml
+    proc = PROCESSORS.get(str(raw.attrs.get("salkit_kind", "raw")), focus_sal)
+    return proc(raw, processing, scenario=scenario, algorithm=algorithm, grid=grid, window_name=window_name,
+                plane=plane, progress=progress)
 
-    scenario = None
-    if "scenario" in raw.attrs:
-        try:
-            scenario = parse_scenario(yaml.safe_load(raw.attrs["scenario"]))
-        except Exception:  # noqa: BLE001 - outside data may carry anything
-            scenario = None
-    if processing is None:
-        processing = scenario.processing if scenario is not None else None
+
+def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=None,
+              algorithm: str | None = None, grid: Grid | None = None, window_name: str | None = None,
+              plane: str | None = None, progress: Optional[Callable[[int, int], None]] = None) -> xr.Dataset:
+    """The SAL processor of :func:`focus` (raw dechirped data and phase histories): range
+    compression, then the registered former :func:`get_former` names. Parameters as :func:`focus`.
+
+    Returns
+    -------
+    xarray.Dataset
+    """
+    if scenario is None:
+        scenario = stored_scenario(raw.attrs)
+    if not isinstance(scenario, Scenario):
+        scenario = None
+    if processing is None and scenario is not None:
+        processing = scenario.processing
+    alg = algorithm or (processing.algorithm if processing else "bp")
+    former = get_former(alg)
     g0 = grid or (processing.grid if processing else None)
     sig = raw["signal"]
-    need, what = memory_estimate(sig.shape[0], sig.shape[1], g0.nx if g0 else 256, g0.ny if g0 else 256,
-                                 algorithm or (processing.algorithm if processing else "bp"),
+    need, what = memory_estimate(sig.shape[0], sig.shape[1], g0.nx if g0 else 256, g0.ny if g0 else 256, alg,
                                  raw=raw.attrs.get("salkit_kind") == "raw")
     check_memory(need, what, "use a smaller grid (--nx --ny) or fewer pulses")
     ph = phase_history(raw, processing.chirp_correction if processing is not None else "none")
-    alg = algorithm or (processing.algorithm if processing else "bp")
-    if alg not in ALGORITHMS:
-        raise ScenarioError("processing.algorithm", alg, f"must be one of {ALGORITHMS}")
     if plane is not None:
         check_choice("plane", plane, PLANES)
     g = grid or (processing.grid if processing else default_grid(ph, plane=plane or "slant"))
     if plane is not None and g.plane != plane:
         g = g.model_copy(update={"plane": plane})
-    win = window_name or (processing.window if processing else "none")
-    nbar = processing.taylor_nbar if processing else 4
-    sll = processing.taylor_sll if processing else 35.0
-    ups = processing.range_upsample if processing else 8
-    wfun = lambda n: window(win, n, nbar, sll)  # noqa: E731
-    plane = plane_from(ph.track, ph.center_position, g.plane)
-    az, rg = grid_axes(g)
-    res = theory_resolution(ph, plane)
-    if g.dx > res["azimuth"] * 1.01 or g.dy > res["range"] * 1.01:
+    p = processing or Processing(grid=g)
+    win = Window(window_name or p.window, p.taylor_nbar, p.taylor_sll)
+    ig = ImageGrid.of(ph, g)
+    res = theory_resolution(ph, ig.plane)
+    if g.dx > res["azimuth"] * GRID_SPACING_TOLERANCE or g.dy > res["range"] * GRID_SPACING_TOLERANCE:
         raise ScenarioError("processing.grid", f"dx={g.dx:g}, dy={g.dy:g}",
                             f"spacing must not exceed the resolution (azimuth {res['azimuth']:.4g} m, "
                             f"range {res['range']:.4g} m)")
-    P, M = ph.data.shape
-    if alg == "pfa":
-        if ph.mode != "spotlight":
-            raise ScenarioError("processing.algorithm", "pfa", "the polar format algorithm needs spotlight data")
-        img, info = polar_format(ph.data, ph.freq, ph.positions, ph.reference_range, plane, az, rg, wfun, wfun,
-                                 real_aperture=ph.real_aperture)
-        if progress:
-            progress(P, P)
-    elif alg == "omegak":
-        if ph.mode != "stripmap" or ph.real_aperture <= 0:
-            raise ScenarioError("processing.algorithm", "omegak", "omega-k needs stripmap data")
-        table, dsin = beam_gain_table(ph.wavelength, ph.real_aperture)
-        img, info = omega_k(ph.data, ph.freq, ph.positions, ph.reference_range, plane, az, rg, ph.track,
-                           ph.center_position, table, dsin, two_way_3db_sin(ph.wavelength, ph.real_aperture),
-                           wfun, wfun)
-        if progress:
-            progress(P, P)
-    elif ph.mode == "stripmap" and ph.real_aperture > 0:
-        img = stripmap_backprojection(ph, plane, az, rg, wfun, upsample=ups, progress=progress)
-        info = {"support_azimuth": P, "support_range": M}
-    else:
-        W = np.broadcast_to(wfun(P).astype(np.float32)[None, :], (az.size, P))
-        wsum = W.sum(axis=1)
-        row_origin = plane.points(az, np.zeros_like(az))
-        wr = wfun(M)
-        img = backproject(ph.data, ph.freq, ph.positions, ph.reference_range, row_origin, plane.range,
-                          rg, W, wr, upsample=ups, progress=progress)
-        norm = np.maximum(wsum, 1e-30) * wr.sum()
-        img = (img / norm[:, None]).astype(np.complex64)
-        info = {"support_azimuth": P, "support_range": M}
-    wi = window_ipr(win, nbar, sll)
+    result = former(ph, ig, win, upsample=p.range_upsample, progress=progress)
+    M = ph.freq.size
+    wi = window_ipr(win.name, win.nbar, win.sll)
     attrs = {
-        "algorithm": alg, "window": win, "plane": g.plane,
+        "algorithm": alg, "window": win.name, "plane": g.plane,
         "wavelength": ph.wavelength, "carrier_frequency": float(ph.freq[M // 2]),
         "bandwidth": res["bandwidth"], "mode": ph.mode,
         "resolution_range": res["range"], "resolution_azimuth": res["azimuth"],
@@ -249,7 +173,7 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, algorithm
         "phase_reference": "track" if (alg == "omegak" or ph.mode == "stripmap") else "aperture_centre",
         "aperture_center": ph.center_position,
     }
-    attrs.update({k: v for k, v in info.items() if k.startswith(("support_", "cover_", "illuminated_"))})
+    attrs.update({k: v for k, v in result.info.items() if k.startswith(("support_", "cover_", "illuminated_"))})
     for k in ("frequency_fit_residual_steps", "frequency_fit_residual", "phase_sign_converted"):
         if k in ph.attrs:
             attrs[k] = ph.attrs[k]
@@ -257,16 +181,27 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, algorithm
         attrs["scenario"] = raw.attrs["scenario"]
     truth = None
     if scenario is not None and scenario.scene.points:
-        try:
-            truth = truth_positions(scenario.model_copy(update={"processing": scenario.processing.model_copy(
-                update={"grid": g})}))
-        except Exception:  # noqa: BLE001
-            truth = None
+        truth = truth_positions(scenario.model_copy(update={"processing": scenario.processing.model_copy(
+            update={"grid": g})}))
     attrs["frequency_min"], attrs["frequency_max"] = float(ph.freq[0]), float(ph.freq[-1])
     if "origin_llh" in ph.attrs:
         attrs["origin_llh"] = np.asarray(ph.attrs["origin_llh"], np.float64)
-    out = make_image_dataset(img, az, rg, plane, attrs, truth)
+    out = make_image_dataset(result.image, ig.azimuth, ig.range, ig.plane, attrs, truth)
     return add_collection_geometry(out, raw, ph)
+
+
+def _focus_downlooking(raw: xr.Dataset, processing=None, *, scenario=None, progress=None, **options) -> xr.Dataset:
+    """The down-looking processor of :func:`focus`: its processing is in the scenario it carries."""
+    for name, v in (("processing", processing), *options.items()):
+        if v is not None:
+            raise ScenarioError(f"--{name.replace('_name', '')}", v, "does not apply to down-looking SAL raw data "
+                                "(its processing is in the scenario the file carries)")
+    return focus_downlooking_raw(raw, progress=progress)
+
+
+#: data kind (``salkit_kind``) -> processor, all ``f(raw, processing, *, scenario, algorithm,
+#: grid, window_name, plane, progress) -> xr.Dataset``.
+PROCESSORS = {"raw": focus_sal, "phase_history": focus_sal, "raw_downlooking": _focus_downlooking}
 
 
 def grid_of(image: xr.Dataset) -> Grid:
@@ -306,7 +241,8 @@ def add_collection_geometry(image: xr.Dataset, raw: xr.Dataset, ph: PhaseHistory
     return image
 
 
-__all__ = ["ALGORITHMS", "PhaseHistory", "default_grid", "focus", "grid_of", "memory_estimate", "phase_history", "range_compress",
+__all__ = ["FORMERS", "ImageGrid", "ImageResult", "PROCESSORS", "PhaseHistory", "default_grid", "focus", "focus_sal",
+           "get_former", "grid_of", "memory_estimate", "phase_history", "range_compress", "register_former",
            "theory_resolution"]
 
 

@@ -17,9 +17,9 @@ import numpy as np
 import scipy.fft as sfft
 from numba import njit, prange
 
-from ..constants import SPEED_OF_LIGHT
+from ..constants import FFT_WORKERS, SPEED_OF_LIGHT
 
-WORKERS = -1
+WORKERS = FFT_WORKERS
 
 
 @njit(cache=True, inline="always", fastmath=True)

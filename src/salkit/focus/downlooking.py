@@ -24,8 +24,14 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.fft as sfft
 
-from ..geometry.downlooking import DLDesign
-from ..simulate.downlooking import jones
+import xarray as xr
+
+from ..errors import DataFileError
+from ..geometry.collection import ImagePlane
+from ..geometry.downlooking import DLDesign, boresight_frame, design, jones
+from ..io.datasets import make_image_dataset
+from ..metrics.pointtarget import window_ipr
+from ..params.scenario import stored_scenario
 
 
 @dataclass(frozen=True)
@@ -177,3 +183,68 @@ def focus_downlooking(current: np.ndarray, Y: np.ndarray, design: DLDesign, exp,
     else:
         comb = imF + imB
     return DLImages(y_out, x, imF, imB, comb, order)
+
+
+def image_attrs(d: DLDesign, exp, look_angle_deg: float, kind: str) -> dict:
+    """Attributes of a DL-SAL image dataset (theory of the unweighted sinc PSF)."""
+    wi = window_ipr(exp.window)
+    return {
+        "algorithm": f"downlooking:{exp.order}", "window": exp.window, "plane": "beam",
+        "image_kind": kind, "wavelength": d.wavelength, "magnification": d.magnification,
+        "look_angle_deg": look_angle_deg, "range_reference": d.range,
+        "resolution_azimuth": d.resolution_y, "resolution_range": d.resolution_x,
+        "irw_azimuth_theory": float(wi["irw_factor"]) * d.resolution_y,
+        "irw_range_theory": float(wi["irw_factor"]) * d.resolution_x,
+        "pslr_theory": wi["pslr_db"], "islr_theory": wi["islr_db"],
+        "fringe_period_theory": d.fringe_period_x,
+    }
+
+
+def image_dataset(img: np.ndarray, imgs: DLImages, d: DLDesign, exp, look: float, kind: str,
+                  truth: np.ndarray | None = None, scenario_text: str = "") -> xr.Dataset:
+    """A DL-SAL image in the foundation image format (azimuth = along track, range = cross track)."""
+    ex, ey, b = boresight_frame(look)
+    plane = ImagePlane(origin=np.zeros(3), azimuth=ey, range=ex)
+    at = image_attrs(d, exp, look, kind)
+    at["scenario"] = scenario_text
+    return make_image_dataset(img, imgs.y, imgs.x, plane, at, truth)
+
+
+def focus_downlooking_raw(raw: xr.Dataset, progress=None) -> xr.Dataset:
+    """Form the eq-19 image of a DL-SAL raw dataset (``salkit_kind = raw_downlooking``), with the
+    design of the scenario it carries.
+
+    Parameters
+    ----------
+    raw : xarray.Dataset
+        ``current`` (scan, fast_time), ``along_track`` (scan) m, and the ``scenario`` attribute.
+    progress : callable, optional
+        ``progress(done, total)``, called at the end.
+
+    Returns
+    -------
+    xarray.Dataset
+        Image in the foundation format: ``azimuth`` = along track, ``range`` = cross track, m.
+
+    Raises
+    ------
+    DataFileError
+        For a file without its scenario, current or track, or with non-finite values.
+    """
+    sc = stored_scenario(raw.attrs)
+    if sc is None or not sc.is_downlooking:
+        raise DataFileError("not a complete salkit DL-SAL raw file (no down-looking scenario in its attributes)")
+    try:
+        cur = np.asarray(raw["current"].values, np.float64)
+        Y = np.asarray(raw["along_track"].values, np.float64)
+    except KeyError as err:
+        raise DataFileError(f"not a complete salkit DL-SAL raw file (no {err})") from None
+    if not np.all(np.isfinite(cur)):
+        raise DataFileError("the raw current holds NaN or infinite values")
+    exp = sc.experiment
+    d = design(exp)
+    imgs = focus_downlooking(cur, Y, d, exp)
+    if progress:
+        progress(Y.size, Y.size)
+    return image_dataset(imgs.combined, imgs, d, exp, exp.track.look_angle_deg, "combined eq 19", None,
+                         raw.attrs["scenario"])

@@ -13,10 +13,15 @@ from __future__ import annotations
 import numpy as np
 import scipy.fft as sfft
 
-from ..constants import SPEED_OF_LIGHT
+from ..constants import FFT_WORKERS, SPEED_OF_LIGHT
+from ..errors import ScenarioError
+from ..geometry.collection import beam_gain_table, two_way_3db_sin
+from ..signals.windows import Window
+from .formers import ImageGrid, ImageResult, register_former
 from .interp import resample_rows
+from .phasehistory import PhaseHistory
 
-WORKERS = -1
+WORKERS = FFT_WORKERS
 
 
 def omegak(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.ndarray, plane,
@@ -115,3 +120,41 @@ def omegak(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: n
     img *= np.exp(1j * np.pi / 4) / gain
     return img.astype(np.complex64), {"support_azimuth": int(ku_s.size), "support_range": nky,
                                       "reference_range_scene": Rs}
+
+
+@register_former("omegak")
+def form_omegak(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = 8,
+                progress=None) -> ImageResult:
+    """Omega-k image of a stripmap collection on a straight track (the registered ``omegak``
+    former).
+
+    Parameters
+    ----------
+    ph : PhaseHistory
+        Stripmap collection with a known ``real_aperture``.
+    grid : ImageGrid
+    window : Window
+        Applied over the processed Doppler band and in range.
+    upsample : int
+        Unused.
+    progress : callable, optional
+        ``progress(done, total)``, called once at the end.
+
+    Returns
+    -------
+    ImageResult
+
+    Raises
+    ------
+    ScenarioError
+        For spotlight data or an unknown aperture.
+    """
+    if ph.mode != "stripmap" or ph.real_aperture <= 0:
+        raise ScenarioError("processing.algorithm", "omegak", "omega-k needs stripmap data")
+    table, dsin = beam_gain_table(ph.wavelength, ph.real_aperture)
+    img, info = omegak(ph.data, ph.freq, ph.positions, ph.reference_range, grid.plane, grid.azimuth, grid.range,
+                       ph.track, ph.center_position, table, dsin, two_way_3db_sin(ph.wavelength, ph.real_aperture),
+                       window, window)
+    if progress:
+        progress(ph.data.shape[0], ph.data.shape[0])
+    return ImageResult(img, info)

@@ -18,13 +18,16 @@ import numpy as np
 import scipy.fft as sfft
 from numba import njit, prange
 
-from ..constants import SPEED_OF_LIGHT
+from ..constants import FFT_WORKERS, SPEED_OF_LIGHT
 from ..errors import ScenarioError
 from ..geometry.collection import angle_between, first_null_sin
+from ..signals.windows import Window
 from .backprojection import _sincos_cycles
+from .formers import ImageGrid, ImageResult, register_former
+from .phasehistory import PhaseHistory
 from .interp import azimuth_pass, interp_rows_linear, kernel_table
 
-WORKERS = -1
+WORKERS = FFT_WORKERS
 
 #: Largest grid (pixels) PFA forms to cover the illuminated scene before cropping (2 GiB complex64).
 MAX_COVER_PIXELS = 2 ** 28
@@ -256,3 +259,38 @@ def pfa_on_grid(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_ran
               plane.azimuth, plane.range, pc, kx_c, ky_c, 4 * np.pi * freq[M // 2] / c,
               np.float32(1.0 / (w_a.sum() * w_r.sum())))
     return img.astype(np.complex64), {"support_azimuth": nkx, "support_range": nky}
+
+
+@register_former("pfa")
+def form_pfa(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = 8,
+             progress=None) -> ImageResult:
+    """Polar format image of a spotlight collection (the registered ``pfa`` former).
+
+    Parameters
+    ----------
+    ph : PhaseHistory
+        Spotlight collection.
+    grid : ImageGrid
+    window : Window
+        Applied in azimuth and range.
+    upsample : int
+        Unused (PFA interpolates with 8-tap kernels).
+    progress : callable, optional
+        ``progress(done, total)``, called once at the end.
+
+    Returns
+    -------
+    ImageResult
+
+    Raises
+    ------
+    ScenarioError
+        For stripmap data, or a cover grid too large (:func:`pfa`).
+    """
+    if ph.mode != "spotlight":
+        raise ScenarioError("processing.algorithm", "pfa", "the polar format algorithm needs spotlight data")
+    img, info = pfa(ph.data, ph.freq, ph.positions, ph.reference_range, grid.plane, grid.azimuth, grid.range,
+                    window, window, real_aperture=ph.real_aperture)
+    if progress:
+        progress(ph.data.shape[0], ph.data.shape[0])
+    return ImageResult(img, info)

@@ -15,10 +15,10 @@ import numpy as np
 import scipy.fft as sfft
 import xarray as xr
 
-from ..constants import SPEED_OF_LIGHT
+from ..constants import FFT_WORKERS, SPEED_OF_LIGHT
 from ..errors import DataFileError
 
-WORKERS = -1
+WORKERS = FFT_WORKERS
 
 
 def deskew(signal: np.ndarray, adc_rate: float, chirp_rate: float) -> np.ndarray:

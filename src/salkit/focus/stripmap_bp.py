@@ -20,6 +20,7 @@ import scipy.fft as sfft
 
 from ..geometry.collection import beam_gain_table, two_way_3db_sin
 from .backprojection import backproject
+from ..constants import FFT_WORKERS
 
 _NULL = 1.2196698912665045  # first null of the Airy pattern, in lambda / D
 
@@ -86,9 +87,9 @@ def stripmap_backprojection(ph, plane, az, rg, win, upsample=8, progress=None):
     g = table[i0] * (1 - (gi - i0)) + table[i0 + 1] * (gi - i0)
     H = np.zeros(nxp)
     H[band] = _window_continuous(win, (sin_off[band] + s3) / (2 * s3)) / np.maximum(g, 1e-3)
-    spec = sfft.fft(img, axis=0, workers=-1)
+    spec = sfft.fft(img, axis=0, workers=FFT_WORKERS)
     spec *= H[:, None]
-    out = sfft.ifft(spec, axis=0, workers=-1)[n_pad:n_pad + az.size * L:L]
+    out = sfft.ifft(spec, axis=0, workers=FFT_WORKERS)[n_pad:n_pad + az.size * L:L]
     # a unit target collects sum over the band's pulses of w: normalise by it
     du = float(np.mean(np.abs(np.diff(u))))
     half3 = Rs * math.tan(math.asin(s3))

@@ -314,37 +314,103 @@ def truth_positions(scenario: Scenario, collection: Collection | None = None) ->
     return out
 
 
+def processed_angle(positions: np.ndarray, wavelength: float, mode: str = "spotlight",
+                    real_aperture: float = 0.0) -> float:
+    """Angular span of the processed aperture, rad, seen from the scene centre.
+
+    Spotlight: all pulses, N/(N-1) times the end-to-end angle (each pulse stands for one angular
+    step). Stripmap: the two-way 3 dB beam width, 2 asin(s3) (:func:`two_way_3db_sin`).
+
+    Parameters
+    ----------
+    positions : float64 (P, 3)
+        Antenna positions relative to the scene centre, m.
+    wavelength : float
+        m.
+    mode : {"spotlight", "stripmap"}
+    real_aperture : float
+        Aperture diameter, m (stripmap).
+
+    Returns
+    -------
+    float
+        rad.
+
+    Examples
+    --------
+    >>> pos = np.array([[-1.0, 0, 1000.0], [0, 0, 1000.0], [1.0, 0, 1000.0]])
+    >>> round(processed_angle(pos, 1.55e-6) * 1e3, 4)  # 2 mrad end to end, 3 pulses
+    3.0
+    """
+    if mode == "stripmap" and real_aperture > 0:
+        return 2.0 * math.asin(min(two_way_3db_sin(wavelength, real_aperture), 1.0))
+    u0, u1 = _unit(positions[0]), _unit(positions[-1])
+    n = positions.shape[0]
+    return angle_between(u0, u1) * n / (n - 1)
+
+
+def plane_resolution(bandwidth: float, wavelength: float, angle: float, look: np.ndarray,
+                     plane_range: np.ndarray) -> tuple[float, float, float]:
+    """Unweighted resolutions in an image plane: c/(2B) projected on the plane's range axis, and
+    lambda/(2 dtheta) in azimuth.
+
+    Parameters
+    ----------
+    bandwidth : float
+        Effective bandwidth, Hz.
+    wavelength : float
+        m.
+    angle : float
+        Processed aperture angle, rad (:func:`processed_angle`).
+    look : (3,) float64
+        Unit vector from the aperture centre to the scene centre.
+    plane_range : (3,) float64
+        Unit range axis of the image plane.
+
+    Returns
+    -------
+    (float, float, float)
+        Range resolution in the plane, azimuth resolution, slant-range resolution, m.
+
+    Examples
+    --------
+    >>> look = np.array([0.0, 0.0, -1.0])
+    >>> [round(v, 4) for v in plane_resolution(7.5e9, 1.5e-6, 1e-4, look, look)]
+    [0.02, 0.0075, 0.02]
+    """
+    rho_slant = SPEED_OF_LIGHT / (2.0 * bandwidth)
+    cos_proj = abs(float(np.dot(look, plane_range)))
+    return rho_slant / max(cos_proj, 1e-12), wavelength / (2.0 * angle), rho_slant
+
+
 def resolution_theory(scenario: Scenario, collection: Collection | None = None) -> dict:
-    """Theoretical resolutions (m) in the image plane: ``range`` and ``azimuth``.
+    """Theoretical resolutions (m) of a scenario in its image plane (:func:`plane_resolution`).
 
     Range: c/(2 B_eff) with B_eff = chirp_rate * gate, projected onto the image plane.
-    Azimuth: wavelength / (2 * dtheta_eff), dtheta_eff the angular span of the processed aperture
-    (spotlight: all pulses, N/(N-1) times the end-to-end angle; stripmap: two-way 3 dB beam).
+    Azimuth: wavelength / (2 * dtheta_eff) (:func:`processed_angle`).
+
+    Parameters
+    ----------
+    scenario : Scenario
+    collection : Collection, optional
+        Built from the scenario when not given.
+
+    Returns
+    -------
+    dict
+        ``range``, ``azimuth``, ``slant_range`` (m), ``bandwidth_eff`` (Hz),
+        ``aperture_length`` (m), ``angle`` (rad).
     """
     from .sampling import effective_bandwidth
 
     col = collection if collection is not None else build_collection(scenario)
     w, p = scenario.waveform, scenario.platform
     B = effective_bandwidth(scenario, col)
-    rho_r = SPEED_OF_LIGHT / (2.0 * B)
     plane = image_plane(col, scenario.processing.grid)
-    look = _unit(-col.center_position)
-    cos_proj = abs(float(np.dot(look, plane.range)))
-    rho_r_plane = rho_r / max(cos_proj, 1e-12)
-    lam = w.wavelength
-    if p.mode == "spotlight":
-        u0 = _unit(col.positions[0])
-        u1 = _unit(col.positions[-1])
-        ang = angle_between(u0, u1)
-        n = col.n_pulses
-        ang_eff = ang * n / (n - 1)
-        rho_a = lam / (2.0 * ang_eff)
-        aperture = ang_eff * float(np.linalg.norm(col.center_position))
-    else:
-        s3 = two_way_3db_sin(lam, p.real_aperture)
-        ang_eff = 2.0 * math.asin(min(s3, 1.0))
-        rho_a = lam / (2.0 * ang_eff)
-        aperture = ang_eff * float(np.linalg.norm(col.center_position))
+    ang_eff = processed_angle(col.positions, w.wavelength, p.mode, p.real_aperture)
+    rho_r_plane, rho_a, rho_r = plane_resolution(B, w.wavelength, ang_eff, _unit(-col.center_position),
+                                                 plane.range)
+    aperture = ang_eff * float(np.linalg.norm(col.center_position))
     return {"range": rho_r_plane, "azimuth": rho_a, "slant_range": rho_r,
             "bandwidth_eff": B, "aperture_length": aperture, "angle": ang_eff}
 

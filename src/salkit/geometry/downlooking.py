@@ -273,3 +273,9 @@ def beam_coordinates(points: np.ndarray, range_m: float, look_angle_deg: float) 
     p = np.asarray(points, np.float64)
     rel = p + range_m * b  # the platform sits at -range * b when its along-track position is 0
     return rel @ ex, p[:, 0], rel @ b
+
+
+def jones(hwp_angle_deg: float) -> tuple[float, float]:
+    """(c, s) = (cos 2 theta, sin 2 theta) of the receiving half-wave plate."""
+    th = math.radians(hwp_angle_deg)
+    return math.cos(2 * th), math.sin(2 * th)

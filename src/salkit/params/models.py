@@ -7,9 +7,9 @@ otherwise (``*_deg`` in degrees).
 from __future__ import annotations
 
 import math
-from typing import Literal, Optional
+from typing import Annotated, Literal, Optional, Union
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic import BaseModel, ConfigDict, Discriminator, Field, Tag, field_validator, model_validator
 
 from ..choices import ALGORITHMS, AUTOFOCUS_METHODS, CHIRP_CORRECTIONS, PGA_KERNELS, PLANES, WINDOWS
 from ..constants import SPEED_OF_LIGHT
@@ -433,35 +433,34 @@ class SpaceborneExperiment(_Frozen):
 from .downlooking import DownlookingExperiment  # noqa: E402  (it builds on the classes above)
 
 
-class Scenario(_Frozen):
-    """A complete simulation and processing scenario.
-
-    The foundation blocks (waveform, platform, receiver, processing) are required, except for the
-    down-looking SAL, whose physics (no optical chirp, scanning cylindrical lenses) lives in its
-    ``experiment`` block.
-    """
-
+class _ScenarioBase(_Frozen):
     name: str = "scenario"
     description: str = ""
     seed: int = Field(default=0, ge=0)
-    waveform: Optional[Waveform] = None
-    platform: Optional[Platform] = None
     scene: Scene
-    receiver: Optional[Receiver] = None
-    processing: Optional[Processing] = None
+
+
+class Scenario(_ScenarioBase):
+    """A synthetic aperture ladar scenario: waveform, platform, scene, receiver, processing, and
+    optionally an atmosphere, one of the seed experiments (turbulence, chirp, space-borne) and
+    the stacking settings.
+
+    The down-looking SAL (seeds 000/003) has physics of its own (no optical chirp, scanning
+    cylindrical lenses) and is a :class:`DownlookingScenario`; :func:`salkit.params.parse_scenario`
+    picks the model from ``experiment.kind`` (:data:`AnyScenario`).
+    """
+
+    waveform: Waveform
+    platform: Platform
+    receiver: Receiver
+    processing: Processing
     atmosphere: Optional[Atmosphere] = None
-    experiment: Optional[TurbulenceExperiment | ChirpExperiment | SpaceborneExperiment | DownlookingExperiment] = Field(
+    experiment: Optional[TurbulenceExperiment | ChirpExperiment | SpaceborneExperiment] = Field(
         default=None, discriminator="kind")
     stack: StackSettings = StackSettings()
 
     @model_validator(mode="after")
-    def _blocks(self) -> "Scenario":
-        if self.experiment is not None and self.experiment.kind == "downlooking":
-            return self
-        for name in ("waveform", "platform", "receiver", "processing"):
-            if getattr(self, name) is None:
-                raise ValueError(f"{name}: this section is required (only experiment.kind = downlooking "
-                                 "works without it)")
+    def _beam(self) -> "Scenario":
         lam, D = self.waveform.wavelength, self.platform.real_aperture
         if not 1.2196698912665045 * lam / D < 0.5:
             raise ValueError(f"platform.real_aperture = {D:g} m is too small for wavelength {lam:g} m: the "
@@ -469,6 +468,39 @@ class Scenario(_Frozen):
         return self
 
     @property
+    def kind(self) -> str:
+        """``"sal"``, or the experiment's kind."""
+        return self.experiment.kind if self.experiment is not None else "sal"
+
+    @property
     def is_downlooking(self) -> bool:
-        """True for a down-looking SAL scenario (seeds 000/003)."""
-        return self.experiment is not None and self.experiment.kind == "downlooking"
+        """False: see :class:`DownlookingScenario`."""
+        return False
+
+
+class DownlookingScenario(_ScenarioBase):
+    """A self-interferometric down-looking SAL scenario (seeds 000/003): the scene and the
+    ``experiment`` block (kind ``downlooking``), which holds the whole system."""
+
+    experiment: DownlookingExperiment
+
+    @property
+    def kind(self) -> str:
+        """``"downlooking"``."""
+        return "downlooking"
+
+    @property
+    def is_downlooking(self) -> bool:
+        """True."""
+        return True
+
+
+def _scenario_tag(v) -> str:
+    exp = v.get("experiment") if isinstance(v, dict) else getattr(v, "experiment", None)
+    kind = exp.get("kind") if isinstance(exp, dict) else getattr(exp, "kind", None)
+    return "downlooking" if kind == "downlooking" else "sal"
+
+
+#: Either scenario model, chosen by ``experiment.kind`` (a discriminated union).
+AnyScenario = Annotated[Union[Annotated[Scenario, Tag("sal")], Annotated[DownlookingScenario, Tag("downlooking")]],
+                        Discriminator(_scenario_tag)]

@@ -6,16 +6,24 @@ from pathlib import Path
 from typing import Any, Iterable, Mapping
 
 import yaml
-from pydantic import ValidationError
+from pydantic import TypeAdapter, ValidationError
 
 from ..errors import ScenarioError
-from .models import Scenario
+from .models import AnyScenario, DownlookingScenario, Scenario
+
+_ADAPTER = TypeAdapter(AnyScenario)
 
 
 def _format_validation(err: ValidationError) -> ScenarioError:
     first = err.errors()[0]
-    loc = ".".join(str(p) for p in first["loc"]) or "scenario"
+    parts = list(first["loc"])
+    if parts and parts[0] in ("sal", "downlooking"):  # the union's tag, not a field
+        parts = parts[1:]
+    loc = ".".join(str(p) for p in parts) or "scenario"
     msg = first["msg"]
+    if msg == "Field required":
+        msg = ("is required" + (" (only experiment.kind = downlooking works without the waveform, platform, "
+                                "receiver and processing sections)" if len(parts) == 1 else ""))
     if msg.startswith("Value error, "):
         msg = msg[len("Value error, "):]
     value = first.get("input")
@@ -27,8 +35,8 @@ def _format_validation(err: ValidationError) -> ScenarioError:
     return ScenarioError(loc, value, msg)
 
 
-def parse_scenario(data: Mapping[str, Any]) -> Scenario:
-    """Validate a scenario mapping.
+def parse_scenario(data: Mapping[str, Any]) -> Scenario | DownlookingScenario:
+    """Validate a scenario mapping into the model its ``experiment.kind`` names.
 
     Parameters
     ----------
@@ -37,7 +45,7 @@ def parse_scenario(data: Mapping[str, Any]) -> Scenario:
 
     Returns
     -------
-    Scenario
+    Scenario or DownlookingScenario
 
     Raises
     ------
@@ -47,7 +55,7 @@ def parse_scenario(data: Mapping[str, Any]) -> Scenario:
     if not isinstance(data, Mapping):
         raise ScenarioError("scenario", type(data).__name__, "the document must be a mapping")
     try:
-        return Scenario.model_validate(dict(data))
+        return _ADAPTER.validate_python(dict(data))
     except ValidationError as err:
         raise _format_validation(err) from None
 
@@ -117,7 +125,33 @@ def read_yaml(path: str | Path) -> dict:
     return data
 
 
-def load_scenario(path: str | Path, overrides: Iterable[str] = ()) -> Scenario:
+def stored_scenario(attrs: Mapping[str, Any]) -> Scenario | DownlookingScenario | None:
+    """The scenario a dataset carries in its ``scenario`` attribute (YAML), or None when it has
+    none or one this version cannot read (outside data may carry anything).
+
+    Parameters
+    ----------
+    attrs : mapping
+        A dataset's attributes.
+
+    Returns
+    -------
+    Scenario, DownlookingScenario or None
+    """
+    text = attrs.get("scenario")
+    if not isinstance(text, str):
+        return None
+    try:
+        data = yaml.load(text, Loader=_LOADER)
+        return parse_scenario(data) if isinstance(data, Mapping) else None
+    except (yaml.YAMLError, ScenarioError):
+        return None
+
+
+_LOADER = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+
+
+def load_scenario(path: str | Path, overrides: Iterable[str] = ()) -> Scenario | DownlookingScenario:
     """Load, override and validate a scenario file.
 
     Parameters
@@ -129,7 +163,7 @@ def load_scenario(path: str | Path, overrides: Iterable[str] = ()) -> Scenario:
 
     Returns
     -------
-    Scenario
+    Scenario or DownlookingScenario
 
     Examples
     --------
@@ -139,7 +173,16 @@ def load_scenario(path: str | Path, overrides: Iterable[str] = ()) -> Scenario:
     return parse_scenario(data)
 
 
-def dump_scenario(scenario: Scenario) -> str:
-    """The resolved scenario as YAML text (all defaults filled in)."""
+def dump_scenario(scenario: Scenario | DownlookingScenario) -> str:
+    """The resolved scenario as YAML text (all defaults filled in).
+
+    Parameters
+    ----------
+    scenario : Scenario or DownlookingScenario
+
+    Returns
+    -------
+    str
+    """
     data = scenario.model_dump(mode="json")
-    return yaml.safe_dump(data, sort_keys=False)
+    return yaml.dump(data, Dumper=getattr(yaml, "CSafeDumper", yaml.SafeDumper), sort_keys=False)

@@ -29,3 +29,37 @@ def window(name: str, n: int, nbar: int = 4, sll: float = 35.0) -> np.ndarray:
     raise ValueError(f"unknown window {name!r}")
 
 
+
+
+class Window:
+    """A named amplitude window with its parameters, callable as ``w(n) -> ndarray``.
+
+    Parameters
+    ----------
+    name : {"none", "hamming", "taylor"}
+    nbar : int
+        Taylor: number of nearly equal sidelobes.
+    sll : float
+        Taylor: sidelobe level, dB (positive).
+
+    Examples
+    --------
+    >>> w = Window("hamming")
+    >>> w(5).round(2).tolist()
+    [0.08, 0.54, 1.0, 0.54, 0.08]
+    >>> Window("none")(3).tolist()
+    [1.0, 1.0, 1.0]
+    """
+
+    __slots__ = ("name", "nbar", "sll")
+
+    def __init__(self, name: str = "none", nbar: int = 4, sll: float = 35.0):
+        from ..choices import WINDOWS, check_choice
+        check_choice("window", name, WINDOWS)
+        self.name, self.nbar, self.sll = name, int(nbar), float(sll)
+
+    def __call__(self, n: int) -> np.ndarray:
+        return window(self.name, n, self.nbar, self.sll)
+
+    def __repr__(self) -> str:
+        return f"Window({self.name!r}, nbar={self.nbar}, sll={self.sll:g})"

@@ -13,6 +13,7 @@ from ..resources import check_memory
 from ..geometry.sampling import check_sampling, n_fast_samples
 from ..io.datasets import make_raw_dataset
 from ..params.models import Noise, Scenario
+from .downlooking import simulate_downlooking
 from .kernels import simulate_exact, simulate_linear
 from .scene import build_scatterers
 
@@ -225,9 +226,40 @@ def turbulent_path(scenario: Scenario, col: Collection):
                       seed=atm.seed, outer_scale=atm.outer_scale, inner_scale=atm.inner_scale)
 
 
-def simulate(scenario: Scenario, progress: ProgressFn = None, noise: bool | None = None,
+def simulate(scenario, progress: ProgressFn = None, noise: bool | None = None,
              rng: np.random.Generator | None = None) -> xr.Dataset:
-    """Simulate the dechirped raw phase history of a scenario.
+    """Simulate the raw data of a scenario, with the simulator its kind names (:data:`SIMULATORS`:
+    ``sal`` dechirped stretch echoes for every :class:`~salkit.params.Scenario`, ``downlooking``
+    the balanced current of a :class:`~salkit.params.DownlookingScenario`).
+
+    Parameters
+    ----------
+    scenario : Scenario or DownlookingScenario
+    progress : callable, optional
+        ``progress(done, total)`` in pulses (scans).
+    noise : bool, optional
+        Override the scenario's noise switch.
+    rng : numpy.random.Generator, optional
+        Default: seeded from ``scenario.seed``.
+
+    Returns
+    -------
+    xarray.Dataset
+        Raw data in the format of ``docs/data-format.md``.
+
+    Examples
+    --------
+    >>> from salkit.params import load_scenario
+    >>> raw = simulate(load_scenario("examples/spotlight_points.yaml",
+    ...                              ["platform.aperture_length=0.5"]))  # doctest: +SKIP
+    """
+    kind = "downlooking" if scenario.is_downlooking else "sal"
+    return SIMULATORS[kind](scenario, progress=progress, noise=noise, rng=rng)
+
+
+def simulate_sal(scenario: Scenario, progress: ProgressFn = None, noise: bool | None = None,
+                 rng: np.random.Generator | None = None) -> xr.Dataset:
+    """Simulate the dechirped raw phase history of a SAL scenario (the ``sal`` simulator).
 
     Parameters
     ----------
@@ -298,6 +330,9 @@ def simulate(scenario: Scenario, progress: ProgressFn = None, noise: bool | None
         ds.attrs["real_sideband"] = "negative" if d0 >= 0 else "positive"
     return ds
 
+
+#: scenario kind -> simulator, all ``f(scenario, progress=, noise=, rng=) -> xr.Dataset``.
+SIMULATORS = {"sal": simulate_sal, "downlooking": simulate_downlooking}
 
 from .._callable import make_callable as _make_callable  # noqa: E402
 

@@ -32,7 +32,12 @@ from dataclasses import dataclass
 import numba as nb
 import numpy as np
 
-from ..geometry.downlooking import DLDesign, beam_coordinates
+import xarray as xr
+
+from ..errors import ScenarioError
+from ..geometry.downlooking import DLDesign, beam_coordinates, design, jones
+from ..io.datasets import FORMAT_VERSION, clean_attrs, salkit_version
+from ..params.scenario import dump_scenario
 
 
 @dataclass(frozen=True)
@@ -201,12 +206,6 @@ def track_positions(exp, design: DLDesign, y_min: float, y_max: float) -> np.nda
     return a + tr.spacing * np.arange(n, dtype=np.float64)
 
 
-def jones(hwp_angle_deg: float) -> tuple[float, float]:
-    """(c, s) = (cos 2 theta, sin 2 theta) of the receiving half-wave plate."""
-    th = math.radians(hwp_angle_deg)
-    return math.cos(2 * th), math.sin(2 * th)
-
-
 def simulate_fields(scat: DLScatterers, exp, design: DLDesign, Y: np.ndarray,
                     dist: Disturbances | None = None) -> np.ndarray:
     """Balanced-detector current (n_scans, n_t) from the optical fields, scatterer by scatterer.
@@ -289,3 +288,73 @@ def add_receiver_noise(current: np.ndarray, snr_db: float | None, hwp_angle_deg:
     c, s = jones(hwp_angle_deg)
     sigma = abs(4 * c * s) / 10 ** (snr_db / 20)
     return current + sigma * rng.standard_normal(current.shape)
+
+
+def simulate_current(scat: DLScatterers, exp, d: DLDesign, Y: np.ndarray, dist: Disturbances | None = None,
+                     rng: np.random.Generator | None = None, force_fields: bool = False) -> np.ndarray:
+    """Balanced current of a scene: the field kernel, or its factored form where that is exact."""
+    fields = (force_fields or exp.detection == "point_detector" or exp.track.speed is not None
+              or (dist is not None and (dist.tx_screen.size > 0)) or scat.count <= 64)
+    if fields:
+        cur = simulate_fields(scat, exp, d, Y, dist)
+    else:
+        diff = None if dist is None or not np.any(dist.differential) else dist.differential
+        cur = simulate_factored(scat, exp, d, Y, diff)
+    if rng is not None:
+        cur = add_receiver_noise(cur, exp.noise_snr_db, exp.optics.hwp_angle_deg, rng)
+    return cur
+
+
+def raw_dataset(current: np.ndarray, Y: np.ndarray, t: np.ndarray, d: DLDesign, scenario_text: str) -> xr.Dataset:
+    """The balanced-detector current as a labelled dataset (data-format.md, DL-SAL raw data)."""
+    at = {"salkit_kind": "raw_downlooking", "salkit_format": FORMAT_VERSION, "salkit_version": salkit_version(),
+          "scenario": scenario_text}
+    at.update({f"design_{k}": v for k, v in d.as_dict().items()})
+    return xr.Dataset(
+        {"current": (("scan", "fast_time"), current.astype(np.float32),
+                     {"long_name": "balanced detector output", "units": "unit-scatterer beat"}),
+         "forward": (("scan",), (np.arange(Y.size) % 2 == 0).astype(np.int8),
+                     {"long_name": "1 for a forward scan, 0 for a backward scan"})},
+        coords={"along_track": ("scan", np.asarray(Y, np.float64), {"units": "m"}),
+                "fast_time": ("fast_time", np.asarray(t, np.float64), {"units": "s"})},
+        attrs=clean_attrs(at))
+
+
+def simulate_downlooking(scenario, progress=None, noise: bool | None = None,
+                         rng: np.random.Generator | None = None) -> xr.Dataset:
+    """Raw data (balanced current) of a down-looking scenario's point targets, by the field kernel.
+
+    Parameters
+    ----------
+    scenario : DownlookingScenario
+    progress : callable, optional
+        ``progress(done, total)``, called at the end.
+    noise : bool, optional
+        Add the receiver noise of ``experiment.noise_snr_db`` (default True).
+    rng : numpy.random.Generator, optional
+        Default: seeded from ``scenario.seed``.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``salkit_kind = raw_downlooking`` (docs/data-format.md): ``current`` (scan, fast_time).
+
+    Raises
+    ------
+    ScenarioError
+        Without point targets.
+    """
+    exp = scenario.experiment
+    d = design(exp)
+    if not scenario.scene.points:
+        raise ScenarioError("scene.points", [], "the down-looking raw data needs at least one point target")
+    pts = scenario.scene.points
+    ground = np.array([[p.x, p.y, p.z] for p in pts], np.float64)
+    scat = make_scatterers(ground, np.array([p.amplitude for p in pts]), np.array([p.phase for p in pts]),
+                           exp.track.range, exp.track.look_angle_deg)
+    Y = track_positions(exp, d, float(ground[:, 0].min()), float(ground[:, 0].max()))
+    rng = rng if rng is not None else np.random.default_rng(scenario.seed)
+    cur = simulate_current(scat, exp, d, Y, None, rng if noise is not False else None, force_fields=True)
+    if progress:
+        progress(Y.size, Y.size)
+    return raw_dataset(cur, Y, fast_time(d, exp.scan.duration), d, dump_scenario(scenario))

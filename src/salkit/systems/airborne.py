@@ -20,7 +20,7 @@ from ..io.datasets import write_dataset, write_json_atomic, write_text_atomic
 from ..metrics import measure, snr_against_truth
 from ..metrics.pointtarget import cut_curves
 from ..params.models import Processing, Scenario
-from ..params.scenario import dump_scenario
+from ..params.scenario import dump_scenario, stored_scenario
 from ..simulate import simulate
 
 Progress = Optional[Callable[[str, int, int], None]]
@@ -84,7 +84,7 @@ def noise_metrics(scenario: Scenario, col, raw: xr.Dataset, image: xr.Dataset, d
 
     nz = scenario.receiver.noise
     clean = simulate(scenario, noise=False)
-    truth_img = focus(clean, scenario.processing)["image"].values
+    truth_img = focus(clean, scenario.processing, scenario=scenario)["image"].values
     img = image["image"].values
     s = signal_scale(scenario, col, raw.sizes["fast_time"])
     eff = equalisation_efficiency(scenario, col)
@@ -206,11 +206,11 @@ def run(scenario: Scenario, out_dir: str | Path, progress: Progress = None) -> d
     cb = (lambda d, n: progress("focus", d, n)) if progress else None
     af_metrics, af_res = {}, None
     if scenario.processing.autofocus == "pulse":
-        write_dataset(focus(raw, scenario.processing), out / "image_focus.nc")
+        write_dataset(focus(raw, scenario.processing, scenario=scenario), out / "image_focus.nc")
         corrected, af_metrics = pulse_correct(raw, scenario.processing.grid, scenario.processing.chirp_correction)
         image = focus(corrected, scenario.processing, progress=cb)
     else:
-        image = focus(raw, scenario.processing, progress=cb)
+        image = focus(raw, scenario.processing, scenario=scenario, progress=cb)
     t_focus = time.perf_counter() - t0
     if scenario.processing.autofocus not in ("none", "pulse"):
         image, af_res, af_metrics = run_autofocus(image, scenario, out)
@@ -233,17 +233,11 @@ def focus_file(raw: xr.Dataset, out_dir: str | Path, processing: Processing | No
                progress: Progress = None, autofocus: str | None = None, kernel: str | None = None,
                plane: str | None = None) -> dict:
     """Focus an existing raw file and write image.nc, metrics.json, figures and report.html."""
-    from ..params.scenario import parse_scenario
-    import yaml
-
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    scenario = None
-    if "scenario" in raw.attrs:
-        try:
-            scenario = parse_scenario(yaml.safe_load(raw.attrs["scenario"]))
-        except Exception:  # noqa: BLE001
-            scenario = None
+    scenario = stored_scenario(raw.attrs)
+    if not isinstance(scenario, Scenario):
+        scenario = None
     t0 = time.perf_counter()
     cb = (lambda d, n: progress("focus", d, n)) if progress else None
     af_metrics = {}

@@ -16,7 +16,7 @@ from typing import Callable, Optional
 import numpy as np
 import xarray as xr
 
-from ..focus.downlooking import DLImages, focus_downlooking
+from ..focus.downlooking import DLImages, focus_downlooking, image_attrs, image_dataset
 from ..geometry.collection import ImagePlane
 from ..geometry.downlooking import DLDesign, boresight_frame, design
 from ..io.datasets import FORMAT_VERSION, clean_attrs, salkit_version, make_image_dataset, write_dataset, \
@@ -24,68 +24,13 @@ from ..io.datasets import FORMAT_VERSION, clean_attrs, salkit_version, make_imag
 from ..metrics import measure
 from ..params.scenario import dump_scenario
 from ..metrics.pointtarget import window_ipr
-from ..simulate.downlooking import (DLScatterers, Disturbances, add_receiver_noise, fast_time, make_scatterers,
-                                    no_disturbance, simulate_factored, simulate_fields, track_positions)
+from ..simulate.downlooking import (DLScatterers, Disturbances, fast_time, make_scatterers, no_disturbance,
+                                    raw_dataset, simulate_current, track_positions)
 
 Progress = Optional[Callable[[str, int, int], None]]
 
 
 # --------------------------------------------------------------------------- helpers
-def simulate_current(scat: DLScatterers, exp, d: DLDesign, Y: np.ndarray, dist: Disturbances | None = None,
-                     rng: np.random.Generator | None = None, force_fields: bool = False) -> np.ndarray:
-    """Balanced current of a scene: the field kernel, or its factored form where that is exact."""
-    fields = (force_fields or exp.detection == "point_detector" or exp.track.speed is not None
-              or (dist is not None and (dist.tx_screen.size > 0)) or scat.count <= 64)
-    if fields:
-        cur = simulate_fields(scat, exp, d, Y, dist)
-    else:
-        diff = None if dist is None or not np.any(dist.differential) else dist.differential
-        cur = simulate_factored(scat, exp, d, Y, diff)
-    if rng is not None:
-        cur = add_receiver_noise(cur, exp.noise_snr_db, exp.optics.hwp_angle_deg, rng)
-    return cur
-
-
-def image_attrs(d: DLDesign, exp, look_angle_deg: float, kind: str) -> dict:
-    """Attributes of a DL-SAL image dataset (theory of the unweighted sinc PSF)."""
-    wi = window_ipr(exp.window)
-    return {
-        "algorithm": f"downlooking:{exp.order}", "window": exp.window, "plane": "beam",
-        "image_kind": kind, "wavelength": d.wavelength, "magnification": d.magnification,
-        "look_angle_deg": look_angle_deg, "range_reference": d.range,
-        "resolution_azimuth": d.resolution_y, "resolution_range": d.resolution_x,
-        "irw_azimuth_theory": float(wi["irw_factor"]) * d.resolution_y,
-        "irw_range_theory": float(wi["irw_factor"]) * d.resolution_x,
-        "pslr_theory": wi["pslr_db"], "islr_theory": wi["islr_db"],
-        "fringe_period_theory": d.fringe_period_x,
-    }
-
-
-def image_dataset(img: np.ndarray, imgs: DLImages, d: DLDesign, exp, look: float, kind: str,
-                  truth: np.ndarray | None = None, scenario_text: str = "") -> xr.Dataset:
-    """A DL-SAL image in the foundation image format (azimuth = along track, range = cross track)."""
-    ex, ey, b = boresight_frame(look)
-    plane = ImagePlane(origin=np.zeros(3), azimuth=ey, range=ex)
-    at = image_attrs(d, exp, look, kind)
-    at["scenario"] = scenario_text
-    return make_image_dataset(img, imgs.y, imgs.x, plane, at, truth)
-
-
-def raw_dataset(current: np.ndarray, Y: np.ndarray, t: np.ndarray, d: DLDesign, scenario_text: str) -> xr.Dataset:
-    """The balanced-detector current as a labelled dataset (data-format.md, DL-SAL raw data)."""
-    at = {"salkit_kind": "raw_downlooking", "salkit_format": FORMAT_VERSION, "salkit_version": salkit_version(),
-          "scenario": scenario_text}
-    at.update({f"design_{k}": v for k, v in d.as_dict().items()})
-    return xr.Dataset(
-        {"current": (("scan", "fast_time"), current.astype(np.float32),
-                     {"long_name": "balanced detector output", "units": "unit-scatterer beat"}),
-         "forward": (("scan",), (np.arange(Y.size) % 2 == 0).astype(np.int8),
-                     {"long_name": "1 for a forward scan, 0 for a backward scan"})},
-        coords={"along_track": ("scan", np.asarray(Y, np.float64), {"units": "m"}),
-                "fast_time": ("fast_time", np.asarray(t, np.float64), {"units": "s"})},
-        attrs=clean_attrs(at))
-
-
 def image_position_theory(scat: DLScatterers, d: DLDesign, focal_transmit: float) -> np.ndarray:
     """Image position (along, cross) of each scatterer, m, by eq 20 with its own magnification:
     xi = 2 (x_p + M_p S_b) v_x / (M_p lambda f_x) maps to x = M_ref f_t d_x / d_z."""
@@ -328,7 +273,7 @@ def disturbance_experiment(sc, exp, d: DLDesign, progress: Progress = None) -> d
         for name, pe in (("side_clean", None), ("side_vibration", exp.disturbance.vibration)):
             ssc = side_looking_scenario(exp, d, pe)
             raw = simulate(ssc, noise=False)
-            img = focus(raw, ssc.processing)
+            img = focus(raw, ssc.processing, scenario=ssc)
             mm = measure(img)
             out["cases"][name] = {k: mm[k] for k in ("irw_range_m", "irw_azimuth_m", "pslr_range_db",
                                                      "pslr_azimuth_db", "peak_amplitude", "entropy")}
@@ -349,47 +294,6 @@ def _dl_case_metrics(imgs: DLImages, d: DLDesign, exp, truth) -> dict:
     out = {k: float(m[k]) for k in keys if k in m}
     out["fringe_phase_rad"] = fringe_phase
     return out
-
-
-def simulate_point_raw(scenario) -> xr.Dataset:
-    """Raw data (balanced current) of the scenario's point targets, as a labelled dataset."""
-    exp = scenario.experiment
-    d = design(exp)
-    if not scenario.scene.points:
-        from ..errors import ScenarioError
-        raise ScenarioError("scene.points", [], "the down-looking raw data needs at least one point target")
-    pts = scenario.scene.points
-    ground = np.array([[p.x, p.y, p.z] for p in pts], np.float64)
-    scat = make_scatterers(ground, np.array([p.amplitude for p in pts]), np.array([p.phase for p in pts]),
-                           exp.track.range, exp.track.look_angle_deg)
-    Y = track_positions(exp, d, float(ground[:, 0].min()), float(ground[:, 0].max()))
-    cur = simulate_current(scat, exp, d, Y, None, np.random.default_rng(scenario.seed), force_fields=True)
-    return raw_dataset(cur, Y, fast_time(d, exp.scan.duration), d, dump_scenario(scenario))
-
-
-def focus_raw_file(ds: xr.Dataset, out_dir) -> Path:
-    """Focus a DL-SAL raw file (with its embedded scenario) into ``image.nc`` (eq 19) and a figure."""
-    from .. import plot
-    from ..errors import DataFileError
-    from ..params.scenario import parse_scenario
-    import yaml
-    try:
-        sc = parse_scenario(yaml.safe_load(ds.attrs["scenario"]))
-        cur = np.asarray(ds["current"].values, np.float64)
-        Y = np.asarray(ds["along_track"].values, np.float64)
-    except (KeyError, yaml.YAMLError) as err:
-        raise DataFileError(f"not a complete salkit DL-SAL raw file ({err})") from None
-    if not np.all(np.isfinite(cur)):
-        raise DataFileError("the raw current holds NaN or infinite values")
-    exp = sc.experiment
-    d = design(exp)
-    imgs = focus_downlooking(cur, Y, d, exp)
-    out = Path(out_dir)
-    ds_img = image_dataset(imgs.combined, imgs, d, exp, exp.track.look_angle_deg, "combined eq 19", None,
-                           ds.attrs["scenario"])
-    write_dataset(ds_img, out / "image.nc")
-    plot.image_db(ds_img, out / "image.png", title="DL-SAL eq-19 image")
-    return out / "image.nc"
 
 
 # --------------------------------------------------------------------------- the run

@@ -43,7 +43,7 @@ def subimage(base: Scenario, squint_deg: float, noise_seed: int, noise: bool = T
         sig = raw["signal"].values.copy()
         photon_noise(sig, base.receiver.noise, np.random.default_rng(10_000_019 + noise_seed))
         raw["signal"].values[...] = sig
-    return focus(raw, sc.processing)["image"].values
+    return focus(raw, sc.processing, scenario=sc)["image"].values
 
 
 def stack(base: Scenario, count: int, squint_max_deg: float, noise: bool = True) -> tuple[np.ndarray, np.ndarray]:
@@ -354,7 +354,7 @@ def run(scenario: Scenario, out_dir, progress=None) -> dict:
     meas = []
     for q in sq_meas:
         ptq = subaperture(pt, q, 0)
-        m = measure(focus(simulate(ptq), ptq.processing))
+        m = measure(focus(simulate(ptq), ptq.processing, scenario=ptq))
         meas.append(m["irw_azimuth_m"] / 0.886)
         metrics[f"resolution_azimuth_squint_{q:g}_m"] = meas[-1]
         metrics[f"resolution_azimuth_squint_{q:g}_theory_m"] = float(resolution_vs_squint(

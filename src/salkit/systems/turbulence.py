@@ -100,7 +100,7 @@ def run(scenario: Scenario, out_dir, progress=None) -> dict:
             if progress:
                 progress("classes", ci, n_cls)
             sc_pt = _with(scenario, cn2, scenario.scene.points)
-            img = focus(simulate(sc_pt), sc_pt.processing)
+            img = focus(simulate(sc_pt), sc_pt.processing, scenario=sc_pt)
             write_dataset(img, out / f"image_{name}.nc")
             af, res = autofocus(img, "pga", kernel=p.autofocus_kernel, max_iter=p.autofocus_max_iter)
             write_dataset(af, out / f"image_{name}_pga.nc")
@@ -112,7 +112,7 @@ def run(scenario: Scenario, out_dir, progress=None) -> dict:
             metrics.update(history_metrics(res, prefix=f"{name}_pga"))
             cuts[name] = (m0, m1)
             sc_i = _with(scenario, cn2, i_pts)
-            img_i = focus(simulate(sc_i), sc_i.processing)
+            img_i = focus(simulate(sc_i), sc_i.processing, scenario=sc_i)
             af_i, _ = autofocus(img_i, "pga", kernel=p.autofocus_kernel, max_iter=p.autofocus_max_iter)
             i_images[name] = (img_i, af_i)
             metrics[f"{name}_i_entropy"] = float(measure(img_i)["entropy"])
