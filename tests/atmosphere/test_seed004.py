@@ -6,7 +6,7 @@ import pytest
 import xarray as xr
 
 from salkit.params import load_scenario
-from salkit.systems.turbulence import run
+from salkit.report import run_scenario as run
 
 from ..conftest import EXAMPLES
 

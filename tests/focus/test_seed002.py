@@ -6,7 +6,7 @@ import pytest
 import xarray as xr
 
 from salkit.params import load_scenario
-from salkit.systems import run_experiment
+from salkit.report import run_scenario as run_experiment
 
 from ..conftest import EXAMPLES
 

@@ -68,7 +68,7 @@ def test_stripmap_cnr_includes_beam_equalisation(alg):
 
 
 def test_run_reports_noise_against_model(tmp_path):
-    from salkit.systems.airborne import run
+    from salkit.report import run_scenario as run
     from ..conftest import STRIP
     sc = parse_scenario(merge(STRIP, scene={"points": [{"x": 0.2, "y": 0.0, "amplitude": 5.0}], "extended": {
         "kind": "pattern", "pattern": "uniform", "extent": [1.0, 0.5], "spacing": 0.007, "speckle": True}},

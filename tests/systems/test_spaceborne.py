@@ -111,7 +111,7 @@ def test_spaceborne_experiment_outputs(tmp_path):
     import xarray as xr
 
     from salkit.params import load_scenario
-    from salkit.systems import run_experiment
+    from salkit.report import run_scenario as run_experiment
     from ..conftest import EXAMPLES
     sc = load_scenario(EXAMPLES / "spaceborne_geo.yaml", ["stack.max_subimages=6",
                                                           "processing.grid={nx: 64, ny: 48, dx: 0.08, dy: 0.08}",

@@ -28,7 +28,7 @@ def main(argv=None) -> int:
     ap.add_argument("--only", nargs="*", default=None)
     args = ap.parse_args(argv)
     from ..params import load_scenario
-    from ..systems.airborne import run
+    from ..report import run_scenario
     from .main import _Bar, _examples_dir
 
     out = Path(args.out)
@@ -42,11 +42,7 @@ def main(argv=None) -> int:
         try:
             sc = load_scenario(f, DEMO_SETS.get(name, []))
             with RunFolder(out / name, overwrite=True, keep_on_failure=("stack.zarr",)) as tmp, _Bar() as bar:
-                if sc.experiment is not None:
-                    from ..systems import run_experiment
-                    m = run_experiment(sc, tmp, progress=bar)
-                else:
-                    m = run(sc, tmp, progress=bar)
+                m = run_scenario(sc, tmp, progress=bar)
         except SalkitError as e:
             print(f"error: {e}", file=sys.stderr)
             return 2

@@ -160,7 +160,7 @@ def run(scenario: Path = typer.Argument(..., help="scenario YAML"),
     """Simulate, focus, measure, draw and report one scenario (into a folder that is complete or absent)."""
     from ..io.runfolder import RunFolder
     from ..params import load_scenario
-    from ..systems.airborne import run as run_system
+    from ..report import run_scenario
     sets = list(set_) + ([f"processing.algorithm={algorithm}"] if algorithm else [])
     sets += [f"stack.workers={workers}"] if workers is not None else []
     sets += [f"stack.scheduler={scheduler}"] if scheduler is not None else []
@@ -170,13 +170,8 @@ def run(scenario: Path = typer.Argument(..., help="scenario YAML"),
         out.print(f"{scenario}: valid; sampling and memory checks passed; nothing written", highlight=False)
         return
     with RunFolder(out_dir, overwrite=overwrite, keep_on_failure=("stack.zarr",)) as tmp:
-        if sc.experiment is not None:
-            from ..systems import run_experiment
-            with _Bar() as bar:
-                m = run_experiment(sc, tmp, progress=bar)
-        else:
-            with _Bar() as bar:
-                m = run_system(sc, tmp, progress=bar)
+        with _Bar() as bar:
+            m = run_scenario(sc, tmp, progress=bar)
     if sc.experiment is not None:
         out.print(f"report: {Path(out_dir) / 'report.html'}")
         return
@@ -191,7 +186,7 @@ def _preflight(sc) -> None:
             out.print(f"[yellow]warning:[/] {w}", highlight=False)
         return
     from ..resources import check_memory
-    from ..systems.airborne import run_memory_estimate
+    from ..focus import run_memory_estimate
     need, what = run_memory_estimate(sc)
     check_memory(need, what, "reduce receiver.adc_rate, platform.aperture_length, waveform.prf or the grid "
                  "(processing.grid.nx, ny)")
@@ -256,6 +251,7 @@ def focus(raw: Path = typer.Argument(..., help="raw or phase-history NetCDF file
           sicd: bool = typer.Option(False, "--sicd", help="also write the image as SICD (image.nitf), checked by sarkit"),
           overwrite: bool = typer.Option(False, "--overwrite", help="replace a non-empty --out once the new run is complete")):
     """Focus a raw file (.nc, .cphd or GOTCHA .mat) into image.nc, metrics.json, figures and report.html."""
+    from ..report import write_run
     from ..systems.airborne import focus_file
     from ..choices import ALGORITHMS, AUTOFOCUS_METHODS, PGA_KERNELS, PLANES, WINDOWS, check_choice
     for opt, v, allowed in (("--algorithm", algorithm, ALGORITHMS), ("--window", window, WINDOWS),
@@ -288,8 +284,8 @@ def focus(raw: Path = typer.Argument(..., help="raw or phase-history NetCDF file
     RunFolder(out_dir, overwrite=overwrite)._check_target()  # before any work
     with RunFolder(out_dir, overwrite=overwrite) as tmp:
         with _Bar() as bar:
-            m = focus_file(ds, tmp, algorithm=algorithm, window_name=window, grid=grid, progress=bar,
-                           autofocus=autofocus, kernel=kernel, plane=plane)
+            m = write_run(focus_file(ds, algorithm=algorithm, window_name=window, grid=grid, progress=bar,
+                                     autofocus=autofocus, kernel=kernel, plane=plane), tmp)
         if sicd:
             _export_sicd(tmp / "image.nc", tmp / "image.nitf", None)
     _summary(m, out_dir)

@@ -21,6 +21,7 @@ from ..params.models import Grid, Processing, Scenario
 from ..params.scenario import stored_scenario
 from ..resources import check_memory
 from ..signals.windows import Window
+from ..simulate import memory_estimate as simulate_memory_estimate, signal_shape
 from . import bp, omegak, pfa  # noqa: F401  (each registers its former)
 from .downlooking import focus_downlooking_raw
 from .formers import FORMERS, ImageGrid, ImageResult, get_former, register_former
@@ -66,6 +67,26 @@ def memory_estimate(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: 
         need += 4 * sig + 16.0 * px
     return need, (f"focusing {n_pulses} pulses x {n_samples} samples onto {nx} x {ny} pixels "
                   f"({algorithm})")
+
+
+def run_memory_estimate(scenario: Scenario) -> tuple[float, str]:
+    """Peak memory of :func:`salkit.simulate.simulate` then :func:`focus`: the larger of simulating and of focusing while the raw signal is
+    held (:func:`salkit.simulate.memory_estimate`, :func:`salkit.focus.memory_estimate`), bytes.
+
+    Parameters
+    ----------
+    scenario : Scenario
+
+    Returns
+    -------
+    (float, str)
+    """
+    sim, _ = simulate_memory_estimate(scenario)
+    P, N = signal_shape(scenario)
+    g = scenario.processing.grid
+    foc, _ = memory_estimate(P, N, g.nx, g.ny, scenario.processing.algorithm, raw=True)
+    return max(sim, foc + 8.0 * P * N), (f"simulating and focusing {P} pulses x {N} samples "
+                                         f"({8.0 * P * N / 2 ** 30:.3g} GiB of signal) onto {g.nx} x {g.ny} pixels")
 
 
 def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=None, algorithm: str | None = None,
@@ -242,7 +263,7 @@ def add_collection_geometry(image: xr.Dataset, raw: xr.Dataset, ph: PhaseHistory
 
 
 __all__ = ["FORMERS", "ImageGrid", "ImageResult", "PROCESSORS", "PhaseHistory", "default_grid", "focus", "focus_sal",
-           "get_former", "grid_of", "memory_estimate", "phase_history", "range_compress", "register_former",
+           "get_former", "grid_of", "memory_estimate", "phase_history", "run_memory_estimate", "range_compress", "register_former",
            "theory_resolution"]
 
 

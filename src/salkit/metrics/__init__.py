@@ -8,6 +8,7 @@ import xarray as xr
 
 from .image import contrast, entropy, noise_power, snr_against_truth
 from .pointtarget import analyse_point, ipr_1d
+from .snr import split_snr, stack_snr
 
 
 def _wrap(x: float) -> float:

@@ -1,11 +1,101 @@
-"""The HTML report: a thin layer that lays out figures, metrics and the scenario."""
+"""The report layer: after a workflow has computed, it writes every file of the run (datasets,
+tables, figures, ``metrics.json``, ``scenario.yaml``) and lays out ``report.html``.
+
+:func:`write_run` takes a :class:`~salkit.systems.result.RunResult`; :func:`run_scenario`
+runs a scenario's workflow and writes it.
+"""
 from __future__ import annotations
 
+from functools import lru_cache
 from pathlib import Path
 
 from jinja2 import Environment, PackageLoader, select_autoescape
 
-from ..io.datasets import write_text_atomic
+from ..io.datasets import write_dataset, write_json_atomic, write_text_atomic
+from ..systems import run_workflow
+from ..systems.result import Progress, RunResult
+
+
+@lru_cache(maxsize=1)
+def environment() -> Environment:
+    """The Jinja environment of the report templates (one for every report)."""
+    return Environment(loader=PackageLoader("salkit", "report/templates"), autoescape=select_autoescape(["html"]))
+
+
+def render(out_dir: str | Path, template: str, **context) -> Path:
+    """Render ``template`` into ``out_dir/report.html`` (atomically).
+
+    Parameters
+    ----------
+    out_dir : path
+    template : str
+        A file of ``salkit/report/templates``.
+    **context
+        Template variables.
+
+    Returns
+    -------
+    Path
+    """
+    html = environment().get_template(template).render(**context)
+    return write_text_atomic(Path(out_dir) / "report.html", html)
+
+
+def write_run(result: RunResult, out_dir: str | Path) -> dict:
+    """Write everything a workflow computed into ``out_dir``: ``scenario.yaml``, the datasets
+    (NetCDF) and tables (CSV), the figures, ``metrics.json`` and ``report.html``, each atomically.
+
+    Parameters
+    ----------
+    result : RunResult
+    out_dir : path
+
+    Returns
+    -------
+    dict
+        The metrics written.
+    """
+    from .writers import WRITERS
+
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    write_text_atomic(out / "scenario.yaml", result.scenario_text)
+    for name, ds in result.datasets.items():
+        write_dataset(ds, out / name)
+    for name, text in result.tables.items():
+        write_text_atomic(out / name, text)
+    WRITERS[result.system](result, out)
+    write_json_atomic(out / "metrics.json", result.metrics)
+    return result.metrics
+
+
+def run_scenario(scenario, out_dir: str | Path, progress: Progress = None) -> dict:
+    """Run a scenario's workflow (:func:`salkit.systems.run_workflow`) and write it into
+    ``out_dir`` (:func:`write_run`).
+
+    Parameters
+    ----------
+    scenario : Scenario or DownlookingScenario
+    out_dir : path
+        Also the place of a workflow's checkpoints (the space-borne ``stack.zarr``).
+    progress : callable, optional
+        ``progress(stage, done, total)``.
+
+    Returns
+    -------
+    dict
+        The metrics.
+    """
+    from ..params.scenario import dump_scenario
+    Path(out_dir).mkdir(parents=True, exist_ok=True)
+    write_text_atomic(Path(out_dir) / "scenario.yaml", dump_scenario(scenario))  # what is running, first
+    return write_run(run_workflow(scenario, out_dir, progress), out_dir)
+
+
+def files_table(out_dir: str | Path) -> list[str]:
+    """Names of the files of a run folder so far, and the report itself."""
+    out = Path(out_dir)
+    return sorted(p.name for p in out.iterdir() if not p.name.startswith(".")) + ["report.html"]
 
 
 def _fmt(v, unit_scale=1.0, digits=4):
@@ -55,23 +145,6 @@ def comparison_rows(m: dict) -> list[dict]:
     return rows
 
 
-def write_report(out_dir: str | Path, context: dict) -> Path:
-    """Render ``report.html`` into ``out_dir`` (atomically) from a context dict."""
-    env = Environment(loader=PackageLoader("salkit", "report/templates"),
-                      autoescape=select_autoescape(["html"]))
-    html = env.get_template("report.html").render(**context)
-    return write_text_atomic(Path(out_dir) / "report.html", html)
-
-
-def write_turbulence_report(out_dir, scenario, rows, metrics) -> Path:
-    """report.html of the seed 004 experiment."""
-    from ..params.scenario import dump_scenario
-    env = Environment(loader=PackageLoader("salkit", "report/templates"), autoescape=select_autoescape(["html"]))
-    html = env.get_template("turbulence.html").render(name=scenario.name, description=scenario.description,
-                                                      rows=rows, metrics=metrics, scenario=dump_scenario(scenario))
-    return write_text_atomic(Path(out_dir) / "report.html", html)
-
-
 # The paper's Table 3 (compression ratio at point A; rows R2, columns R1), quoted for comparison.
 PAPER_TABLE3_R1 = (10, 20, 30, 40, 50, 60, 70, 100, 200, 300)
 PAPER_TABLE3 = {
@@ -113,30 +186,8 @@ def table3_cells(sweep) -> list[dict]:
 PAPER_TABLE1 = {"A": (4.2846, 1.1685, 3.667), "B": (3.1, 1.558, 1.9375), "C": (3.1, 1.558, 1.9375)}
 
 
-def write_chirp_report(out_dir, scenario, table1, sweeps, metrics) -> Path:
-    """report.html of the seed 002 experiment."""
-    from ..params.scenario import dump_scenario
-    env = Environment(loader=PackageLoader("salkit", "report/templates"), autoescape=select_autoescape(["html"]))
-    html = env.get_template("chirp.html").render(name=scenario.name, description=scenario.description,
-                                                 table1=table1, paper=PAPER_TABLE1, metrics=metrics,
-                                                 cells=table3_cells(sweeps["table3"]),
-                                                 scenario=dump_scenario(scenario))
-    return write_text_atomic(Path(out_dir) / "report.html", html)
-
-
-def write_spaceborne_report(out_dir, scenario, metrics) -> Path:
-    """report.html of the seed 001 experiment."""
-    from ..params.scenario import dump_scenario
-    env = Environment(loader=PackageLoader("salkit", "report/templates"), autoescape=select_autoescape(["html"]))
-    html = env.get_template("spaceborne.html").render(name=scenario.name, description=scenario.description,
-                                                      metrics=metrics, scenario=dump_scenario(scenario))
-    return write_text_atomic(Path(out_dir) / "report.html", html)
-
-
-def write_downlooking_report(out_dir, scenario, metrics, design, dist_rows) -> Path:
-    """report.html of the seed 000 experiment."""
-    from ..params.scenario import dump_scenario
-    env = Environment(loader=PackageLoader("salkit", "report/templates"), autoescape=select_autoescape(["html"]))
+def downlooking_context(name, description, metrics, design, dist_rows, scenario_text) -> dict:
+    """Template variables of the seed 000 report."""
     point_rows = [(k, t) for k, t in (
         ("irw_range_m", "irw_range_theory_m"), ("irw_azimuth_m", "irw_azimuth_theory_m"),
         ("forward_irw_range_m", "irw_range_theory_m"), ("forward_irw_azimuth_m", "irw_azimuth_theory_m"),
@@ -145,7 +196,5 @@ def write_downlooking_report(out_dir, scenario, metrics, design, dist_rows) -> P
         ("fringe_modulation_point", "fringe_modulation_point_theory"), ("fringe_period_m", "fringe_period_theory_m"))
         if k in metrics]
     rows = {k: {"label": v.get("label", k.replace("_", " ")), **v} for k, v in dist_rows.items()}
-    html = env.get_template("downlooking.html").render(
-        name=scenario.name, description=scenario.description, m=metrics, d=design,
-        warnings=design.warnings, point_rows=point_rows, dist_rows=rows, scenario=dump_scenario(scenario))
-    return write_text_atomic(Path(out_dir) / "report.html", html)
+    return dict(name=name, description=description, m=metrics, d=design, warnings=design.warnings,
+                point_rows=point_rows, dist_rows=rows, scenario=scenario_text)

@@ -1,15 +1,30 @@
-"""Seed systems as compositions of the lower layers."""
+"""Seed systems as compositions of the lower layers: each ``run(scenario, out_dir, progress)``
+returns a :class:`~salkit.systems.result.RunResult`; the report layer writes it."""
+from .result import RunResult
 
 
-def run_experiment(scenario, out_dir, progress=None) -> dict:
-    """Run the experiment a scenario names (``experiment.kind``)."""
-    kind = scenario.experiment.kind
-    if kind == "turbulence_pga":
-        from .turbulence import run
-    elif kind == "spaceborne_geo":
-        from .spaceborne import run
-    elif kind == "downlooking":
-        from .downlooking import run
-    else:
-        from .chirp import run
-    return run(scenario, out_dir, progress=progress)
+def run_workflow(scenario, out_dir=None, progress=None) -> RunResult:
+    """Run the workflow a scenario names (``experiment.kind``; none: the foundation run).
+
+    Parameters
+    ----------
+    scenario : Scenario or DownlookingScenario
+    out_dir : path, optional
+        Where a workflow may keep checkpoints (the space-borne stack).
+    progress : callable, optional
+        ``progress(stage, done, total)``.
+
+    Returns
+    -------
+    RunResult
+    """
+    import importlib
+
+    module = importlib.import_module(f"{__name__}.{WORKFLOWS[scenario.kind]}")  # only the one that runs
+    return module.run(scenario, out_dir, progress=progress)
+
+
+#: scenario kind -> the module of ``salkit.systems`` whose ``run`` is its workflow.
+WORKFLOWS = {"sal": "airborne", "turbulence_pga": "turbulence", "nonlinear_chirp": "chirp",
+             "spaceborne_geo": "spaceborne", "downlooking": "downlooking"}
+

@@ -1,64 +1,23 @@
-"""The foundation system: simulate -> focus -> measure -> figures -> report, for one scenario.
-
-Every file in the output folder is written atomically; ``raw.nc``, ``image.nc``,
-``metrics.json``, ``scenario.yaml``, the PNG figures and ``report.html``.
+"""The foundation workflow: simulate -> focus -> (autofocus) -> measure, for one scenario or one
+outside file. It returns a :class:`~salkit.systems.result.RunResult`; the report layer
+(:func:`salkit.report.write_run`) writes ``raw.nc``, ``image.nc``, ``metrics.json``,
+``scenario.yaml``, the figures and ``report.html`` after it.
 """
 from __future__ import annotations
 
 import time
-from pathlib import Path
-from typing import Callable, Optional
 
 import numpy as np
 import xarray as xr
 
-from .. import __version__
 from ..focus import focus, grid_of
 from ..geometry.collection import build_collection
 from ..geometry.sampling import check_sampling
-from ..io.datasets import write_dataset, write_json_atomic, write_text_atomic
 from ..metrics import measure, snr_against_truth
-from ..metrics.pointtarget import cut_curves
 from ..params.models import Processing, Scenario
 from ..params.scenario import dump_scenario, stored_scenario
 from ..simulate import simulate
-
-Progress = Optional[Callable[[str, int, int], None]]
-
-
-def _flat_numbers(d: dict) -> dict:
-    out = {}
-    for k, v in d.items():
-        if k.startswith("_"):
-            continue
-        if isinstance(v, (bool, np.bool_)):
-            out[k] = int(v)
-        elif isinstance(v, (int, float, np.integer, np.floating)):
-            out[k] = float(v) if isinstance(v, (float, np.floating)) else int(v)
-    return out
-
-
-def run_memory_estimate(scenario: Scenario) -> tuple[float, str]:
-    """Peak memory of :func:`run`: the larger of simulating and of focusing while the raw signal is
-    held (:func:`salkit.simulate.memory_estimate`, :func:`salkit.focus.memory_estimate`), bytes.
-
-    Parameters
-    ----------
-    scenario : Scenario
-
-    Returns
-    -------
-    (float, str)
-    """
-    from ..focus import memory_estimate as focus_estimate
-    from ..simulate import memory_estimate as simulate_estimate, signal_shape
-
-    sim, _ = simulate_estimate(scenario)
-    P, N = signal_shape(scenario)
-    g = scenario.processing.grid
-    foc, _ = focus_estimate(P, N, g.nx, g.ny, scenario.processing.algorithm, raw=True)
-    return max(sim, foc + 8.0 * P * N), (f"simulating and focusing {P} pulses x {N} samples "
-                                         f"({8.0 * P * N / 2 ** 30:.3g} GiB of signal) onto {g.nx} x {g.ny} pixels")
+from .result import Progress, RunResult, flat_numbers, stage
 
 
 def analyse_image(image: xr.Dataset, scenario: Scenario | None) -> tuple[dict, dict]:
@@ -68,7 +27,7 @@ def analyse_image(image: xr.Dataset, scenario: Scenario | None) -> tuple[dict, d
         t = scenario.scene.points[details["target_index"]]
         details = measure(image, reflectivity_phase=t.phase, details=True)
         details["target_amplitude"] = t.amplitude
-    return _flat_numbers(details), details
+    return flat_numbers(details), details
 
 
 def noise_metrics(scenario: Scenario, col, raw: xr.Dataset, image: xr.Dataset, details: dict) -> dict:
@@ -115,23 +74,36 @@ def noise_metrics(scenario: Scenario, col, raw: xr.Dataset, image: xr.Dataset, d
     return out
 
 
-def run_autofocus(image: xr.Dataset, scenario: Scenario | None, out: Path, method: str | None = None,
-                  kernel: str | None = None, max_iter: int | None = None):
-    """Autofocus an image; keep the focused one as image_focus.nc; metrics before/after and history."""
-    from .. import plot
+def autofocus_image(image: xr.Dataset, scenario: Scenario | None, method: str | None = None,
+                   kernel: str | None = None, max_iter: int | None = None):
+    """Autofocus a formed image; its metrics before, and the history.
+
+    Parameters
+    ----------
+    image : xarray.Dataset
+    scenario : Scenario or None
+        For the defaults of ``method``, ``kernel`` and ``max_iter`` (its processing block).
+    method : {"pga", "min-entropy"}, optional
+    kernel : {"pd", "lumv", "ev"}, optional
+    max_iter : int, optional
+
+    Returns
+    -------
+    (xarray.Dataset, AutofocusResult, dict)
+        The focused image, the result with its history, and ``before_autofocus_*`` metrics.
+    """
     from ..autofocus import autofocus, history_metrics
 
     p = scenario.processing if scenario is not None else None
     method = method or p.autofocus
     kernel = kernel or (p.autofocus_kernel if p else "lumv")
     max_iter = max_iter or (p.autofocus_max_iter if p else 30)
-    write_dataset(image, out / "image_focus.nc")
     before, _ = analyse_image(image, scenario)
     af, res = autofocus(image, method, kernel=kernel, max_iter=max_iter)
     m = {f"before_autofocus_{k}": v for k, v in before.items()
          if k.startswith(("irw_", "pslr_", "islr_", "entropy", "contrast", "peak_"))}
     m.update(history_metrics(res))
-    plot.autofocus_history(res, out / "autofocus.png", title=f"{method} ({kernel})")
+    res.title = f"{method} ({kernel})"
     return af, res, m
 
 
@@ -145,124 +117,120 @@ def pulse_correct(raw: xr.Dataset, grid, chirp_correction: str = "none") -> tupl
     return corrected, m
 
 
-def report_outputs(out: Path, image: xr.Dataset, metrics: dict, details: dict, scenario_text: str,
-                   name: str, description: str, timings: dict, raw: xr.Dataset | None = None) -> None:
-    """Write metrics.json, figures and report.html for a focused image."""
-    from .. import plot
-    from ..report import comparison_rows, write_report
-
-    truth = None
-    if "target_azimuth" in image:
-        truth = np.stack([image["target_azimuth"].values, image["target_range"].values], axis=1)
-    figs = [("Focused image (dB)", "image.png")]
-    plot.image_db(image, out / "image.png", title=f"{name}: {image.attrs.get('algorithm')} image", truth=truth)
-    if "_cut_range" in details:
-        plot.cuts(cut_curves(details, image.attrs), metrics, out / "cuts.png")
-        figs.append(("Cuts through the brightest target against theory", "cuts.png"))
-    if (out / "autofocus.png").exists():
-        figs.append(("Autofocus history", "autofocus.png"))
-    if raw is not None and "fast_time" in raw:
-        plot.raw_phase_history(raw, out / "raw.png")
-        figs.append(("Raw dechirped data", "raw.png"))
-    write_json_atomic(out / "metrics.json", metrics)
-    files = sorted(p.name for p in out.iterdir() if not p.name.startswith("."))
-    write_report(out, {
-        "name": name, "description": description, "version": __version__,
-        "algorithm": image.attrs.get("algorithm"), "window": image.attrs.get("window"),
-        "t_simulate": timings.get("simulate_s", 0.0), "t_focus": timings.get("focus_s", 0.0),
-        "figures": [{"title": t, "file": f} for t, f in figs],
-        "rows": comparison_rows(metrics), "metrics": metrics, "files": files + ["report.html"],
-        "scenario": scenario_text,
-    })
-
-
-def run(scenario: Scenario, out_dir: str | Path, progress: Progress = None) -> dict:
-    """Run a scenario end to end and write every output into ``out_dir``.
+def run(scenario: Scenario, out_dir=None, progress: Progress = None) -> RunResult:
+    """Simulate, focus, autofocus (if asked) and measure one scenario.
 
     Parameters
     ----------
     scenario : Scenario
-    out_dir : str or Path
+    out_dir : path, optional
+        Unused (this workflow keeps no checkpoint).
     progress : callable, optional
         ``progress(stage, done, total)``.
 
     Returns
     -------
-    dict
-        The metrics written to ``metrics.json``.
+    RunResult
+        ``raw.nc``, ``image.nc`` (and ``image_focus.nc``, the image before autofocus), the
+        metrics against theory, and what the figures need.
     """
     col = build_collection(scenario)
-    samp = check_sampling(scenario, col)  # before any work, before anything is written
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    text = dump_scenario(scenario)
-    write_text_atomic(out / "scenario.yaml", text)
+    samp = check_sampling(scenario, col)  # before any work
+    p = scenario.processing
     t0 = time.perf_counter()
-    cb = (lambda d, n: progress("simulate", d, n)) if progress else None
-    raw = simulate(scenario, progress=cb)
-    t_sim = time.perf_counter() - t0
-    write_dataset(raw, out / "raw.nc")
-    t0 = time.perf_counter()
-    cb = (lambda d, n: progress("focus", d, n)) if progress else None
-    af_metrics, af_res = {}, None
-    if scenario.processing.autofocus == "pulse":
-        write_dataset(focus(raw, scenario.processing, scenario=scenario), out / "image_focus.nc")
-        corrected, af_metrics = pulse_correct(raw, scenario.processing.grid, scenario.processing.chirp_correction)
-        image = focus(corrected, scenario.processing, progress=cb)
-    else:
-        image = focus(raw, scenario.processing, scenario=scenario, progress=cb)
+    raw = simulate(scenario, progress=stage(progress, "pulses simulated"))
+    t_sim, t0 = time.perf_counter() - t0, time.perf_counter()
+    data = {"raw.nc": raw}
+    image, af_metrics, af_res = focus_and_autofocus(raw, scenario, data, p, progress=progress)
     t_focus = time.perf_counter() - t0
-    if scenario.processing.autofocus not in ("none", "pulse"):
-        image, af_res, af_metrics = run_autofocus(image, scenario, out)
-    write_dataset(image, out / "image.nc")
     metrics, details = analyse_image(image, scenario)
     metrics.update(af_metrics)
     metrics.update({f"sampling_{k}": v for k, v in samp.as_dict().items()})
     metrics.update({"n_pulses": raw.sizes["slow_time"], "n_samples": raw.sizes["fast_time"],
                     "simulate_s": t_sim, "focus_s": t_focus})
-    nz = scenario.receiver.noise
-    if nz.enabled:
+    if scenario.receiver.noise.enabled:
         metrics.update(noise_metrics(scenario, col, raw, image, details))
-    report_outputs(out, image, metrics, details, text, scenario.name, scenario.description,
-                   {"simulate_s": t_sim, "focus_s": t_focus}, raw)
-    return metrics
+    return RunResult("airborne", scenario.name, scenario.description, dump_scenario(scenario), metrics, data,
+                     figures={"details": details, "autofocus": af_res, "raw": raw,
+                              "timings": {"simulate_s": t_sim, "focus_s": t_focus}})
 
 
-def focus_file(raw: xr.Dataset, out_dir: str | Path, processing: Processing | None = None,
-               algorithm: str | None = None, window_name: str | None = None, grid=None,
-               progress: Progress = None, autofocus: str | None = None, kernel: str | None = None,
-               plane: str | None = None) -> dict:
-    """Focus an existing raw file and write image.nc, metrics.json, figures and report.html."""
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+def focus_and_autofocus(raw: xr.Dataset, scenario: Scenario | None, data: dict, processing: Processing | None = None,
+                        progress: Progress = None, autofocus: str | None = None, kernel: str | None = None,
+                        **options):
+    """Focus ``raw`` and autofocus the way ``autofocus`` (default: the scenario's) says: ``pulse``
+    corrects the phase history before focusing, ``pga``/``min-entropy`` the formed image. The
+    image before autofocus goes into ``data["image_focus.nc"]``, the final one into
+    ``data["image.nc"]``.
+
+    Parameters
+    ----------
+    raw : xarray.Dataset
+    scenario : Scenario or None
+    data : dict
+        File name -> dataset, filled in.
+    processing : Processing, optional
+    progress : callable, optional
+        ``progress(stage, done, total)``.
+    autofocus, kernel : str, optional
+    **options
+        ``algorithm``, ``window_name``, ``grid``, ``plane`` for :func:`salkit.focus.focus`.
+
+    Returns
+    -------
+    (xarray.Dataset, dict, AutofocusResult or None)
+    """
+    method = autofocus or (scenario.processing.autofocus if scenario is not None else "none")
+    af_metrics, af_res = {}, None
+    if method == "pulse":
+        before = focus(raw, processing, scenario=scenario, **options)
+        data["image_focus.nc"] = before
+        cc = processing or (scenario.processing if scenario is not None else None)
+        raw, af_metrics = pulse_correct(raw, grid_of(before),  # the pixels of the image
+                                        cc.chirp_correction if cc is not None else "none")
+    image = focus(raw, processing, scenario=scenario, progress=stage(progress, "pulses focused"), **options)
+    if method not in ("none", "pulse"):
+        data["image_focus.nc"] = image
+        image, af_res, af_metrics = autofocus_image(image, scenario, method, kernel)
+    data["image.nc"] = image
+    return image, af_metrics, af_res
+
+
+def focus_file(raw: xr.Dataset, processing: Processing | None = None, progress: Progress = None,
+               autofocus: str | None = None, kernel: str | None = None, **options) -> RunResult:
+    """Focus an existing raw file (with the scenario it carries, if any) and measure the image.
+
+    Parameters
+    ----------
+    raw : xarray.Dataset
+        Raw data or a phase history (:func:`salkit.io.read_phase_data`).
+    processing : Processing, optional
+    progress : callable, optional
+    autofocus : {"none", "pga", "min-entropy", "pulse"}, optional
+    kernel : {"pd", "lumv", "ev"}, optional
+    **options
+        ``algorithm``, ``window_name``, ``grid``, ``plane`` for :func:`salkit.focus.focus`.
+
+    Returns
+    -------
+    RunResult
+    """
     scenario = stored_scenario(raw.attrs)
     if not isinstance(scenario, Scenario):
         scenario = None
     t0 = time.perf_counter()
-    cb = (lambda d, n: progress("focus", d, n)) if progress else None
-    af_metrics = {}
-    method = autofocus or (scenario.processing.autofocus if scenario is not None else "none")
-    if method == "pulse":
-        before = focus(raw, processing, algorithm=algorithm, window_name=window_name, grid=grid, plane=plane)
-        write_dataset(before, out / "image_focus.nc")
-        cc = processing or (scenario.processing if scenario is not None else None)
-        raw, af_metrics = pulse_correct(raw, grid_of(before),  # the pixels of the image
-                                        cc.chirp_correction if cc is not None else "none")
-    image = focus(raw, processing, algorithm=algorithm, window_name=window_name, grid=grid, plane=plane,
-                  progress=cb)
+    data: dict = {}
+    image, af_metrics, af_res = focus_and_autofocus(raw, scenario, data, processing, progress, autofocus, kernel,
+                                                    **options)
     t_focus = time.perf_counter() - t0
-    if method not in ("none", "pulse"):
-        image, _, af_metrics = run_autofocus(image, scenario, out, method, kernel)
-    write_dataset(image, out / "image.nc")
     metrics, details = analyse_image(image, scenario)
     metrics.update(af_metrics)
     metrics["focus_s"] = t_focus
-    text = raw.attrs.get("scenario", "# no scenario stored in the raw file\n")
-    write_text_atomic(out / "scenario.yaml", text)
-    name = scenario.name if scenario else "external data"
-    report_outputs(out, image, metrics, details, text, name, scenario.description if scenario else "",
-                   {"focus_s": t_focus})
-    return metrics
+    return RunResult("airborne", scenario.name if scenario else "external data",
+                     scenario.description if scenario else "",
+                     raw.attrs.get("scenario", "# no scenario stored in the raw file\n"), metrics, data,
+                     figures={"details": details, "autofocus": af_res, "timings": {"focus_s": t_focus}})
 
 
-__all__ = ["analyse_image", "focus_file", "run"]
+__all__ = ["analyse_image", "autofocus_image", "focus_and_autofocus", "focus_file", "noise_metrics", "pulse_correct",
+           "run"]

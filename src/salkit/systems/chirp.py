@@ -11,7 +11,6 @@ from __future__ import annotations
 import csv
 import io
 import math
-from pathlib import Path
 
 import numpy as np
 import xarray as xr
@@ -20,10 +19,10 @@ from ..constants import SPEED_OF_LIGHT as C
 from ..focus.chirpcorr import (PhaseUnwrapError, correct_deskew, correct_paper, correct_resample,
                                estimate_nonlinear_phase, reference_beat, spectral_width)
 from ..focus.rangecomp import deskew
-from ..io.datasets import write_dataset, write_json_atomic, write_text_atomic
 from ..metrics.pointtarget import ipr_1d
 from ..params.models import Scenario
 from ..params.scenario import dump_scenario
+from .result import Progress, RunResult
 
 METHODS = ("none", "paper", "deskew", "resample", "ideal")
 UP = 16
@@ -65,23 +64,17 @@ def analyse(sig, fs, k):
             "islr_db": m["islr_db"]}, spec
 
 
-def run(scenario: Scenario, out_dir, progress=None) -> dict:
-    """Run the seed 002 experiment; returns the metrics written to metrics.json."""
-    from .. import plot
-    exp = scenario.experiment
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    write_text_atomic(out / "scenario.yaml", dump_scenario(scenario))
-    w, rx = scenario.waveform, scenario.receiver
-    fs, k, f0, tp = rx.adc_rate, w.rate, w.carrier_frequency, w.pulse_width
-    n = int(tp * fs) - 2
-    t = (np.arange(n) - n // 2) / fs
-    coeffs = coefficients(k, tp, exp.r1, exp.r2)
-    metrics: dict = {"c2_hz_per_s2": coeffs[0], "c3_hz_per_s3": coeffs[1]}
-    # Table 1 and profiles
+def point_table(exp, t, fs, f0, k, coeffs) -> tuple[list, dict, xr.Dataset]:
+    """Table 1 of the seed (every method on points A, B, C) and the range profiles.
+
+    Returns
+    -------
+    (list of dict, dict, xarray.Dataset)
+        Rows of Table 1, their metrics, and the profiles (point, range) of every method.
+    """
+    n = t.size
     profiles = {m: [] for m in METHODS}
-    rng_axis = None
-    table1 = []
+    table1, metrics = [], {}
     first_delay = 2 * list(exp.points.values())[0] / C
     first = list(exp.points)[0]
     for name, dist in exp.points.items():
@@ -111,74 +104,114 @@ def run(scenario: Scenario, out_dir, progress=None) -> dict:
             for key, v in (("compression_ratio", ratio), ("irw_m", fig["irw_m"]), ("pslr_db", fig["pslr_db"]),
                            ("islr_db", fig["islr_db"]), ("width_after_hz", fig["width_hz"])):
                 metrics[f"{name}_{meth}_{key}"] = float(v)
-        rng_axis = (np.arange(n * UP) - n * UP // 2) * fs / (n * UP) * C / (2 * k)
+    rng_axis = (np.arange(n * UP) - n * UP // 2) * fs / (n * UP) * C / (2 * k)
     ds = xr.Dataset({m: (("point", "range"), np.stack(profiles[m])) for m in METHODS},
                     coords={"point": list(exp.points), "range": ("range", -rng_axis, {"units": "m",
                             "long_name": "range from the LO delay (beat frequency -k tau)"})},
                     attrs={"salkit_kind": "range_profiles", "r1": exp.r1, "r2": exp.r2, "d_r": exp.d_r,
                            "d_rlo": exp.d_rlo})
-    write_dataset(ds, out / "profiles.nc")
-    _write_csv(out / "table1.csv", table1)
-    # Table 2 (d_r x d_rlo) and Table 3 (R1 x R2), point A, every method
+    return table1, metrics, ds
+
+
+def sweep(rows_, cols_, make, t, fs, f0, k, delay) -> dict:
+    """Every method over a grid of (row, column) settings, on one point: compression ratio, IRW,
+    PSLR and ISLR grids (NaN where a method fails or the reference has zero length).
+
+    Parameters
+    ----------
+    rows_, cols_ : sequence of float
+    make : callable
+        ``make(row, col) -> (coefficients, d_r, d_rlo)``.
+    t : ndarray
+        Fast time, s.
+    fs, f0, k : float
+        ADC rate (Hz), carrier (Hz), chirp rate (Hz/s).
+    delay : float
+        The point's delay, s.
+
+    Returns
+    -------
+    dict
+        ``ratio``, ``irw``, ``pslr``, ``islr``: method -> (rows, cols) array.
+    """
+    out = {q: {m: np.full((len(rows_), len(cols_)), np.nan) for m in METHODS} for q in ("ratio", "irw", "pslr", "islr")}
+    for i, a in enumerate(rows_):
+        for j, b in enumerate(cols_):
+            co, d_r, d_rlo = make(a, b)
+            if d_r == d_rlo:
+                continue  # zero-length reference
+            sig = run_methods(t, fs, f0, k, co, delay, d_r, d_rlo)
+            base, _ = analyse(sig["none"], fs, k)
+            for meth in METHODS:
+                if sig[meth] is not None:
+                    fig, _ = analyse(sig[meth], fs, k)
+                    out["ratio"][meth][i, j] = base["width_hz"] / fig["width_hz"]
+                    out["irw"][meth][i, j] = fig["irw_m"]
+                    out["pslr"][meth][i, j] = fig["pslr_db"]
+                    out["islr"][meth][i, j] = fig["islr_db"]
+    return out
+
+
+def run(scenario: Scenario, out_dir=None, progress: Progress = None) -> RunResult:
+    """Run the seed 002 experiment: Table 1 (points A, B, C), Tables 2 and 3 (sweeps), every method.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        With ``experiment.kind = nonlinear_chirp``.
+    out_dir : path, optional
+        Unused.
+    progress : callable, optional
+        ``progress(stage, done, total)``, in tables.
+
+    Returns
+    -------
+    RunResult
+    """
+    exp, w, rx = scenario.experiment, scenario.waveform, scenario.receiver
+    fs, k, f0, tp = rx.adc_rate, w.rate, w.carrier_frequency, w.pulse_width
+    n = int(tp * fs) - 2
+    t = (np.arange(n) - n // 2) / fs
+    coeffs = coefficients(k, tp, exp.r1, exp.r2)
+    table1, m1, profiles = point_table(exp, t, fs, f0, k, coeffs)
+    metrics = {"c2_hz_per_s2": coeffs[0], "c3_hz_per_s3": coeffs[1], **m1}
+    tables = {"table1.csv": csv_text(table1)}
     a_delay = 2 * list(exp.points.values())[0] / C
     sweeps = {}
-    for label, rows_, cols_, make in (
-            ("table2", exp.sweep_d_rlo, exp.sweep_d_r,
-             lambda a, b: (coeffs, b, a)),
-            ("table3", exp.sweep_r2, exp.sweep_r1,
-             lambda a, b: (coefficients(k, tp, b, a), exp.d_r, exp.d_rlo))):
-        grids = {m: np.full((len(rows_), len(cols_)), np.nan) for m in METHODS}
-        irws = {m: np.full((len(rows_), len(cols_)), np.nan) for m in METHODS}
-        pslrs = {m: np.full((len(rows_), len(cols_)), np.nan) for m in METHODS}
-        islrs = {m: np.full((len(rows_), len(cols_)), np.nan) for m in METHODS}
-        for i, a in enumerate(rows_):
-            for j, b in enumerate(cols_):
-                co, d_r, d_rlo = make(a, b)
-                if d_r == d_rlo:
-                    continue  # zero-length reference
-                sig = run_methods(t, fs, f0, k, co, a_delay, d_r, d_rlo)
-                base, _ = analyse(sig["none"], fs, k)
-                for meth in METHODS:
-                    if sig[meth] is not None:
-                        fig, _ = analyse(sig[meth], fs, k)
-                        grids[meth][i, j] = base["width_hz"] / fig["width_hz"]
-                        irws[meth][i, j] = fig["irw_m"]
-                        pslrs[meth][i, j] = fig["pslr_db"]
-                        islrs[meth][i, j] = fig["islr_db"]
-        sweeps[label] = (rows_, cols_, grids, irws)
+    for i, (label, rows_, cols_, make) in enumerate((
+            ("table2", exp.sweep_d_rlo, exp.sweep_d_r, lambda a, b: (coeffs, b, a)),
+            ("table3", exp.sweep_r2, exp.sweep_r1, lambda a, b: (coefficients(k, tp, b, a), exp.d_r, exp.d_rlo)))):
+        if progress:
+            progress("tables", i, 2)
+        g = sweep(rows_, cols_, make, t, fs, f0, k, a_delay)
+        sweeps[label] = (rows_, cols_, g["ratio"], g["irw"])
         for meth in METHODS:
-            _write_grid(out / f"{label}_{meth}.csv", rows_, cols_, grids[meth])
-            _write_grid(out / f"{label}_{meth}_irw_m.csv", rows_, cols_, irws[meth])
-            _write_grid(out / f"{label}_{meth}_pslr_db.csv", rows_, cols_, pslrs[meth])
-            _write_grid(out / f"{label}_{meth}_islr_db.csv", rows_, cols_, islrs[meth])
-        plot.sweep_heatmaps(rows_, cols_, grids, irws, out / f"{label}.png",
-                            ("d_rlo (m)", "d_r (m)") if label == "table2" else ("R2", "R1"))
-    # success statistics: the paper's method and salkit's, on Table 3
-    rows_, cols_, grids, irws = sweeps["table3"]
-    ideal = irws["ideal"]
+            for suffix, q in (("", "ratio"), ("_irw_m", "irw"), ("_pslr_db", "pslr"), ("_islr_db", "islr")):
+                tables[f"{label}_{meth}{suffix}.csv"] = grid_csv(rows_, cols_, g[q][meth])
+    if progress:
+        progress("tables", 2, 2)
+    irws = sweeps["table3"][3]  # success on Table 3: range IRW within 5 % of the ideal chirp's
     for meth in ("paper", "deskew", "resample"):
-        ok = np.abs(irws[meth] / ideal - 1) <= 0.05
-        metrics[f"table3_{meth}_cells_within_5pct_of_ideal"] = int(np.nansum(ok))
-    metrics["table3_cells"] = int(np.isfinite(ideal).sum())
-    plot.range_profiles_figure(ds, out / "profiles.png")
-    write_json_atomic(out / "metrics.json", metrics)
-    from ..report import write_chirp_report
-    write_chirp_report(out, scenario, table1, sweeps, metrics)
-    return metrics
+        metrics[f"table3_{meth}_cells_within_5pct_of_ideal"] = int(np.nansum(np.abs(irws[meth] / irws["ideal"] - 1) <= 0.05))
+    metrics["table3_cells"] = int(np.isfinite(irws["ideal"]).sum())
+    return RunResult("nonlinear_chirp", scenario.name, scenario.description, dump_scenario(scenario), metrics,
+                     {"profiles.nc": profiles}, tables, figures={"table1": table1, "sweeps": sweeps})
 
 
-def _write_csv(path, rows):
+def csv_text(rows: list[dict]) -> str:
+    """CSV text of a list of dicts (the first row's keys as the header)."""
     buf = io.StringIO()
     wr = csv.DictWriter(buf, fieldnames=list(rows[0]))
     wr.writeheader()
     wr.writerows(rows)
-    write_text_atomic(path, buf.getvalue())
+    return buf.getvalue()
 
 
-def _write_grid(path, rows_, cols_, grid):
+def grid_csv(rows_, cols_, grid) -> str:
+    """CSV text of a (rows, cols) grid with its row and column labels (empty cells for NaN)."""
     buf = io.StringIO()
     wr = csv.writer(buf)
     wr.writerow(["row\\col"] + [f"{c:g}" for c in cols_])
     for r, line in zip(rows_, grid):
         wr.writerow([f"{r:g}"] + ["" if not math.isfinite(v) else f"{v:.4g}" for v in line])
-    write_text_atomic(path, buf.getvalue())
+    return buf.getvalue()

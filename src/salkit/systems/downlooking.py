@@ -1,33 +1,26 @@
 """Seeds 000/003: self-interferometric down-looking SAL, from the fields to the contour map.
 
-``run`` writes, atomically, into the output folder: ``scenario.yaml``, ``raw_point.nc`` (the
-balanced-detector current of the point-target run), ``image_point.nc`` (eq-19 image, foundation
-image format: ``azimuth`` = along track, ``range`` = cross track, m on the target),
-``image_point_forward.nc``, ``image_scene.nc``, ``terrain.nc``, the figures, ``metrics.json``
-and ``report.html``.
+``run`` returns ``raw_point.nc`` (the balanced-detector current of the point-target run),
+``image_point.nc`` (eq-19 image, foundation image format: ``azimuth`` = along track, ``range`` =
+cross track, m on the target), ``image_point_forward.nc``, ``image_scene.nc``, ``terrain.nc``, the
+metrics and the figures' data; the report layer writes them with ``report.html``.
 """
 from __future__ import annotations
 
 import math
 import time
-from pathlib import Path
-from typing import Callable, Optional
 
 import numpy as np
 import xarray as xr
 
 from ..focus.downlooking import DLImages, focus_downlooking, image_attrs, image_dataset
-from ..geometry.collection import ImagePlane
-from ..geometry.downlooking import DLDesign, boresight_frame, design
-from ..io.datasets import FORMAT_VERSION, clean_attrs, salkit_version, make_image_dataset, write_dataset, \
-    write_json_atomic, write_text_atomic
+from ..errors import ScenarioError
+from ..geometry.downlooking import DLDesign, design
 from ..metrics import measure
 from ..params.scenario import dump_scenario
-from ..metrics.pointtarget import window_ipr
 from ..simulate.downlooking import (DLScatterers, Disturbances, fast_time, make_scatterers, no_disturbance,
                                     raw_dataset, simulate_current, track_positions)
-
-Progress = Optional[Callable[[str, int, int], None]]
+from .result import Progress, RunResult
 
 
 # --------------------------------------------------------------------------- helpers
@@ -87,10 +80,7 @@ def terrain_run(exp, d: DLDesign, rng):
 
     Returns a dict of arrays and numbers.
     """
-    from scipy.stats import binned_statistic_2d
-
-    from ..interferometry import (carrier_phase, height_from_fringe_shift, interferogram, terrain_scatterers,
-                                  unwrap_phase, wrap)
+    from ..interferometry import carrier_phase, recover_height, terrain_height, terrain_scatterers
     ter = exp.terrain
     look = exp.terrain_look_angle_deg
     th = math.radians(look)
@@ -103,44 +93,13 @@ def terrain_run(exp, d: DLDesign, rng):
     xr_ = (float(truth_img[:, 1].min()), float(truth_img[:, 1].max()))
     half_y = 0.5 * ter.extent[0]
     imgs = focus_downlooking(cur, Y, d, exp, y_range=(-half_y, half_y), x_range=xr_, order="focus_then_add")
-    F, B = imgs.forward.astype(np.complex128), imgs.backward.astype(np.complex128)
-    ifg = interferogram(F, B)
-    wrapped = np.angle(ifg)
-    carrier = carrier_phase(imgs.x, d.magnification, exp.optics.bias_common, d.fringe_period_x)[None, :]
-    residual_wrapped = wrap(wrapped - carrier)
-    unwrapped = unwrap_phase(wrapped, exp.unwrap)
-    residual = unwrapped - carrier
-    mag = np.abs(ifg)
-    good = mag > 0.05 * np.percentile(mag, 99)
-    residual = residual - np.median(residual[good])
-    h_rec = height_from_fringe_shift(residual, d.fringe_period_x, look)
-    # the true height of the surface seen in each image pixel (scatterers gridded by image position)
-    dy, dx = imgs.y[1] - imgs.y[0], imgs.x[1] - imgs.x[0]
-    ey = np.concatenate([imgs.y - dy / 2, [imgs.y[-1] + dy / 2]])
-    ex_ = np.concatenate([imgs.x - dx / 2, [imgs.x[-1] + dx / 2]])
-    h_true = binned_statistic_2d(truth_img[:, 0], truth_img[:, 1], scat.ground[:, 2], "mean",
-                                 bins=[ey, ex_]).statistic
-    valid = good & np.isfinite(h_true)
-    err = h_rec[valid] - h_true[valid]
-    # smooth surfaces for the contour map: the true height interpolated at the image positions, and
-    # the recovered height by normalised convolution over the valid pixels (3 cells)
-    from scipy.interpolate import griddata
-    from scipy.ndimage import gaussian_filter
-    YY, XX = np.meshgrid(imgs.y, imgs.x, indexing="ij")
-    h_true_map = griddata(truth_img, scat.ground[:, 2], (YY, XX), method="linear")
-    sig = 3 * d.resolution_x / dx
-    wgt = gaussian_filter(valid.astype(float), sig)
-    h_rec_map = np.where(wgt > 0.2, gaussian_filter(np.where(valid, h_rec, 0.0), sig) / np.maximum(wgt, 1e-12), np.nan)
-    # how much interferogram phase per metre of height the SAL shows, against the projection model
-    A = np.vstack([h_true[valid], np.ones(int(valid.sum()))]).T
-    sens = float(np.linalg.lstsq(A, residual[valid], rcond=None)[0][0]) if valid.sum() > 2 else float("nan")
-    corr = float(np.corrcoef(residual[valid], h_true[valid])[0, 1]) if valid.sum() > 2 else float("nan")
+    hr = recover_height(imgs.forward, imgs.backward, imgs.y, imgs.x, d.magnification, exp.optics.bias_common,
+                        d.fringe_period_x, look, exp.unwrap, d.resolution_x, truth_img, scat.ground[:, 2])
     # what the paper's Fig. 2 pictures: the flat fringe phase painted onto the terrain, in ground
     # coordinates (a second, nadir-looking camera would see this; the SAL cannot)
     gx = np.linspace(-0.5 * ter.extent[0], 0.5 * ter.extent[0], 160)
     gy = np.linspace(-0.5 * ter.extent[1], 0.5 * ter.extent[1], 160)
     GX, GY = np.meshgrid(gx, gy, indexing="ij")
-    from ..interferometry import terrain_height
     GZ = terrain_height(ter, GX, GY)
     pts = np.stack([GX.ravel(), GY.ravel(), GZ.ravel()], axis=1)
     flat = np.stack([GX.ravel(), GY.ravel(), np.zeros(GX.size)], axis=1)
@@ -150,29 +109,12 @@ def terrain_run(exp, d: DLDesign, rng):
     xi_f = image_position_theory(s_f, d, exp.optics.focal_transmit)[:, 1]
     ground_fringe = (carrier_phase(xi_t, d.magnification, exp.optics.bias_common, d.fringe_period_x)
                      - carrier_phase(xi_f, d.magnification, exp.optics.bias_common, d.fringe_period_x)).reshape(GX.shape)
-    hmax = float(np.nanmax(GZ))
-    return {
-        "images": imgs, "ifg": ifg, "wrapped": wrapped, "h_true_map": h_true_map, "h_rec_map": h_rec_map, "residual_wrapped": residual_wrapped,
-        "unwrapped": unwrapped, "residual": residual, "h_rec": h_rec, "h_true": h_true, "valid": valid,
-        "ground_x": gx, "ground_y": gy, "ground_z": GZ, "ground_fringe": ground_fringe,
-        "metrics": {
-            "terrain_look_angle_deg": look,
-            "terrain_height_max_m": hmax,
-            "terrain_height_rms_m": float(np.sqrt(np.nanmean(h_true[valid] ** 2))),
-            "terrain_residual_phase_rms_rad": float(np.std(residual_wrapped[good])),
-            "terrain_ground_fringe_phase_rms_rad": float(np.std(ground_fringe)),
-            "terrain_ground_fringe_phase_span_rad": float(np.ptp(ground_fringe)),
-            "terrain_height_recovered_rms_m": float(np.sqrt(np.mean(h_rec[valid] ** 2))),
-            "terrain_height_error_rms_m": float(np.sqrt(np.mean(err ** 2))),
-            "terrain_height_error_over_height_rms": float(np.sqrt(np.mean(err ** 2))
-                                                          / max(np.sqrt(np.mean(h_true[valid] ** 2)), 1e-12)),
-            "terrain_residual_height_correlation": corr,
-            "terrain_phase_per_height_rad_per_m": sens,
-            "terrain_phase_per_height_model_rad_per_m": 2 * 2 * math.pi * math.sin(th) / d.fringe_period_x,
-            "terrain_image_shift_per_height_theory": math.sin(th),
-            "terrain_scatterers": scat.count,
-        },
-    }
+    return {**hr, "images": imgs, "ground_x": gx, "ground_y": gy, "ground_z": GZ, "ground_fringe": ground_fringe,
+            "metrics": {"terrain_look_angle_deg": look, "terrain_height_max_m": float(np.nanmax(GZ)),
+                        **hr["metrics"],
+                        "terrain_ground_fringe_phase_rms_rad": float(np.std(ground_fringe)),
+                        "terrain_ground_fringe_phase_span_rad": float(np.ptp(ground_fringe)),
+                        "terrain_scatterers": scat.count}}
 
 
 def make_disturbances(exp, d: DLDesign, Y: np.ndarray, which: str, rng_seed: int) -> Disturbances:
@@ -297,60 +239,23 @@ def _dl_case_metrics(imgs: DLImages, d: DLDesign, exp, truth) -> dict:
 
 
 # --------------------------------------------------------------------------- the run
-def run(scenario, out_dir, progress: Progress = None) -> dict:
-    """Run the seed 000 experiment; write every output; return metrics.
-
-    Parameters
-    ----------
-    scenario : Scenario
-        With ``experiment.kind = downlooking``.
-    out_dir : str or Path
-    progress : callable(stage, done, total), optional
+def point_case(scenario, d: DLDesign, rng) -> tuple[dict, dict, dict]:
+    """The point target: raw current, eq-19 and forward-only images, their metrics against theory
+    and the fringe modulation of a point (with the paper's processing order beside it).
 
     Returns
     -------
-    dict
-        The metrics written to ``metrics.json``.
+    (dict, dict, dict)
+        Metrics, datasets (by file name) and figure data.
     """
-    from .. import plot
-    from ..plot import downlooking as dlplot
-    from ..report import write_downlooking_report
-
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    exp = scenario.experiment
-    text = dump_scenario(scenario)
-    write_text_atomic(out / "scenario.yaml", text)
-    t_all = time.perf_counter()
-    d = design(exp)
-    metrics: dict = {f"design_{k}": v for k, v in d.as_dict().items()}
-    metrics["design_warnings"] = len(d.warnings)
-    timings = {}
-    step = 0
-    total = 5
-
-    def tick(stage):
-        nonlocal step
-        if progress:
-            progress(stage, step, total)
-        step += 1
-
-    # 1. point target
-    tick("point target")
-    rng = np.random.default_rng(scenario.seed)
-    t0 = time.perf_counter()
+    exp, text = scenario.experiment, dump_scenario(scenario)
     if not scenario.scene.points:
-        from ..errors import ScenarioError
         raise ScenarioError("scene.points", [], "the down-looking experiment needs at least one point target")
     scat, Y, cur, imgs, truth = point_run(scenario, d, exp, rng)
-    timings["point_s"] = time.perf_counter() - t0
-    write_dataset(raw_dataset(cur, Y, fast_time(d, exp.scan.duration), d, text), out / "raw_point.nc")
     ds_pt = image_dataset(imgs.combined, imgs, d, exp, exp.track.look_angle_deg, "combined eq 19", truth, text)
     ds_fw = image_dataset(imgs.forward, imgs, d, exp, exp.track.look_angle_deg, "forward scans only", truth, text)
-    write_dataset(ds_pt, out / "image_point.nc")
-    write_dataset(ds_fw, out / "image_point_forward.nc")
     m_pt = measure(ds_pt, details=True)
-    metrics.update({k: v for k, v in m_pt.items() if not k.startswith("_") and isinstance(v, (int, float))})
+    metrics = {k: v for k, v in m_pt.items() if not k.startswith("_") and isinstance(v, (int, float))}
     m_fw = _point_metrics(ds_fw, "forward_")
     metrics.update({k: v for k, v in m_fw.items() if k.startswith(("forward_irw", "forward_pslr", "forward_islr",
                                                                      "forward_peak_offset"))})
@@ -361,67 +266,86 @@ def run(scenario, out_dir, progress: Progress = None) -> dict:
                               order="paper")
     metrics["fringe_modulation_point_paper_order"] = float(np.abs(paper.combined).max()
                                                            / max(np.abs(imgs.forward).max(), 1e-30) / 2)
-    plot.image_db(ds_pt, out / "image_point.png", title="point target, eq-19 image (forward + backward)",
-                  truth=truth)
-    from ..metrics.pointtarget import cut_curves
-    plot.cuts(cut_curves(m_pt, ds_pt.attrs), metrics, out / "cuts_point.png")
-    dlplot.raw_current(cur, Y, fast_time(d, exp.scan.duration), out / "raw_point.png")
+    t = fast_time(d, exp.scan.duration)
+    return (metrics, {"raw_point.nc": raw_dataset(cur, Y, t, d, text), "image_point.nc": ds_pt,
+                      "image_point_forward.nc": ds_fw},
+            {"point_details": m_pt, "truth": truth, "current": cur, "Y": Y, "fast_time": t})
 
-    # 2. extended scene: fringes, fringe period, paper order
-    tick("extended scene")
-    if scenario.scene.extended is not None:
-        t0 = time.perf_counter()
-        sscat, simgs, spaper = extended_run(scenario, d, exp, rng)
-        timings["scene_s"] = time.perf_counter() - t0
-        from ..interferometry import fringe_period, interferogram
-        per = fringe_period(interferogram(simgs.forward.astype(np.complex128), simgs.backward.astype(np.complex128)),
-                            simgs.x, factor=2.0)
-        metrics["fringe_period_m"] = per["period_m"]
-        metrics["scene_scatterers"] = sscat.count
-        write_dataset(image_dataset(simgs.combined, simgs, d, exp, exp.track.look_angle_deg, "combined eq 19",
-                                    None, text), out / "image_scene.nc")
-        dlplot.scene_figure(simgs, spaper, d, out / "scene.png")
-    else:
-        # a single point's interferogram phase is constant over its PSF (the fringe belongs to the
-        # scatterer's position): the period needs an extended scene
-        metrics["fringe_period_m"] = float("nan")
+
+def scene_case(scenario, d: DLDesign, rng) -> tuple[dict, dict, dict]:
+    """The extended scene: fringes, their period (eq 25) and the paper's processing order."""
+    from ..interferometry import fringe_period, interferogram
+    exp = scenario.experiment
+    sscat, simgs, spaper = extended_run(scenario, d, exp, rng)
+    per = fringe_period(interferogram(simgs.forward.astype(np.complex128), simgs.backward.astype(np.complex128)),
+                        simgs.x, factor=2.0)
+    ds = image_dataset(simgs.combined, simgs, d, exp, exp.track.look_angle_deg, "combined eq 19", None,
+                       dump_scenario(scenario))
+    return ({"fringe_period_m": per["period_m"], "scene_scatterers": sscat.count}, {"image_scene.nc": ds},
+            {"scene": (simgs, spaper)})
+
+
+def terrain_case(scenario, d: DLDesign, rng) -> tuple[dict, dict, dict]:
+    """The oblique view of the 3-D terrain: images, interferogram and height (:func:`terrain_run`)."""
+    exp = scenario.experiment
+    ter = terrain_run(exp, d, rng)
+    timgs = ter["images"]
+    tds = image_dataset(timgs.combined, timgs, d, exp, exp.terrain_look_angle_deg, "terrain, combined eq 19",
+                        None, dump_scenario(scenario))
+    tds["interferogram"] = (("azimuth", "range"), ter["ifg"].astype(np.complex64))
+    tds["height_recovered"] = (("azimuth", "range"), ter["h_rec"].astype(np.float32), {"units": "m"})
+    tds["height_true"] = (("azimuth", "range"), ter["h_true"].astype(np.float32), {"units": "m"})
+    return ter["metrics"], {"terrain.nc": tds}, {"terrain": ter}
+
+
+def disturbance_case(scenario, d: DLDesign, progress: Progress = None) -> tuple[dict, dict, dict]:
+    """The disturbance experiment (:func:`disturbance_experiment`): metrics of every case."""
+    dres = disturbance_experiment(scenario, scenario.experiment, d, progress)
+    metrics = {f"disturbance_{case}_{k}": v for case, mm in dres["cases"].items() for k, v in mm.items()
+               if isinstance(v, (int, float))}
+    return metrics, {}, {"disturbance_images": dres["images"], "disturbance_rows": dres["cases"]}
+
+
+def run(scenario, out_dir=None, progress: Progress = None) -> RunResult:
+    """Run the seed 000 experiment: point target, extended scene, 3-D terrain, disturbances.
+
+    Parameters
+    ----------
+    scenario : DownlookingScenario
+    out_dir : path, optional
+        Unused.
+    progress : callable(stage, done, total), optional
+
+    Returns
+    -------
+    RunResult
+    """
+    t_all, exp = time.perf_counter(), scenario.experiment
+    d = design(exp)
+    metrics: dict = {f"design_{k}": v for k, v in d.as_dict().items()}
+    metrics["design_warnings"] = len(d.warnings)
+    metrics["fringe_period_m"] = float("nan")  # a point's fringe belongs to its position: needs a scene
     metrics["fringe_period_theory_m"] = d.fringe_period_x
-
-    # 3. terrain
-    tick("3-D terrain")
-    if exp.terrain is not None:
+    rng = np.random.default_rng(scenario.seed)
+    data, figures = {}, {"design": d, "experiment": exp, "disturbance_rows": {}}
+    cases = [("point target", "point_s", lambda: point_case(scenario, d, rng)),
+             ("extended scene", "scene_s", (lambda: scene_case(scenario, d, rng)) if scenario.scene.extended else None),
+             ("3-D terrain", "terrain_s", (lambda: terrain_case(scenario, d, rng)) if exp.terrain else None),
+             ("disturbances", "disturbance_s",
+              (lambda: disturbance_case(scenario, d, progress)) if exp.disturbance.active else None)]
+    for i, (label, key, case) in enumerate(cases):
+        if progress:
+            progress("cases", i, len(cases))
+        if case is None:
+            continue
         t0 = time.perf_counter()
-        ter = terrain_run(exp, d, rng)
-        timings["terrain_s"] = time.perf_counter() - t0
-        metrics.update(ter["metrics"])
-        timgs = ter["images"]
-        tds = image_dataset(timgs.combined, timgs, d, exp, exp.terrain_look_angle_deg, "terrain, combined eq 19",
-                            None, text)
-        tds["interferogram"] = (("azimuth", "range"), ter["ifg"].astype(np.complex64))
-        tds["height_recovered"] = (("azimuth", "range"), ter["h_rec"].astype(np.float32), {"units": "m"})
-        tds["height_true"] = (("azimuth", "range"), ter["h_true"].astype(np.float32), {"units": "m"})
-        write_dataset(tds, out / "terrain.nc")
-        dlplot.terrain_figures(ter, d, exp, out)
-
-    # 4. disturbance experiment
-    tick("disturbances")
-    if exp.disturbance.active:
-        t0 = time.perf_counter()
-        dres = disturbance_experiment(scenario, exp, d, progress)
-        timings["disturbance_s"] = time.perf_counter() - t0
-        for case, mm in dres["cases"].items():
-            for k, v in mm.items():
-                if isinstance(v, (int, float)):
-                    metrics[f"disturbance_{case}_{k}"] = v
-        dlplot.disturbance_figure(dres["images"], out / "disturbance.png")
-        dist_rows = dres["cases"]
-    else:
-        dist_rows = {}
-    tick("report")
-    metrics.update({f"time_{k}": v for k, v in timings.items()})
-    metrics["time_total_s"] = time.perf_counter() - t_all
-    write_json_atomic(out / "metrics.json", metrics)
-    write_downlooking_report(out, scenario, metrics, d, dist_rows)
+        m, ds, fig = case()
+        metrics.update(m)
+        metrics[f"time_{key}"] = time.perf_counter() - t0
+        data.update(ds)
+        figures.update(fig)
     if progress:
-        progress("done", total, total)
-    return metrics
+        progress("cases", len(cases), len(cases))
+    metrics["time_total_s"] = time.perf_counter() - t_all
+    return RunResult("downlooking", scenario.name, scenario.description, dump_scenario(scenario), metrics, data,
+                     figures=figures)

@@ -1,0 +1,117 @@
+"""Figures and report.html of each workflow, drawn from its :class:`RunResult` after the work."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .. import __version__, plot
+from ..metrics.pointtarget import cut_curves
+from ..systems.result import RunResult
+from . import comparison_rows, files_table, render
+
+
+def write_airborne(result: RunResult, out: Path) -> None:
+    """Figures (image, cuts, autofocus history, raw data) and report.html of a plain run or of an
+    outside file focused."""
+    image = result.datasets["image.nc"]
+    fig, metrics = result.figures, result.metrics
+    details = fig["details"]
+    truth = None
+    if "target_azimuth" in image:
+        truth = np.stack([image["target_azimuth"].values, image["target_range"].values], axis=1)
+    figs = [("Focused image (dB)", "image.png")]
+    plot.image_db(image, out / "image.png", title=f"{result.name}: {image.attrs.get('algorithm')} image", truth=truth)
+    if "_cut_range" in details:
+        plot.cuts(cut_curves(details, image.attrs), metrics, out / "cuts.png")
+        figs.append(("Cuts through the brightest target against theory", "cuts.png"))
+    if fig.get("autofocus") is not None:
+        res = fig["autofocus"]
+        plot.autofocus_history(res, out / "autofocus.png", title=getattr(res, "title", "autofocus"))
+        figs.append(("Autofocus history", "autofocus.png"))
+    raw = fig.get("raw")
+    if raw is not None and "fast_time" in raw:
+        plot.raw_phase_history(raw, out / "raw.png")
+        figs.append(("Raw dechirped data", "raw.png"))
+    timings = fig.get("timings", {})
+    render(out, "report.html", name=result.name, description=result.description, version=__version__,
+           algorithm=image.attrs.get("algorithm"), window=image.attrs.get("window"),
+           t_simulate=timings.get("simulate_s", 0.0), t_focus=timings.get("focus_s", 0.0),
+           figures=[{"title": t, "file": f} for t, f in figs], rows=comparison_rows(metrics), metrics=metrics,
+           files=sorted(set(files_table(out)) | {"metrics.json"}), scenario=result.scenario_text)
+
+
+WRITERS = {"airborne": write_airborne}
+
+
+def write_turbulence(result: RunResult, out: Path) -> None:
+    """Figures 1-8 of seed 004 and its report.html."""
+    f = result.figures
+    plot.screens_figure(f["path"], out / "screens.png")
+    sf = f["structure_function"]
+    plot.structure_function_figure(sf["r"], sf["d"], sf["e"], sf["theory"], out / "structure_function.png",
+                                   title=sf["title"])
+    plot.ipr_classes_figure(f["cuts"], out / "ipr_classes.png")
+    plot.image_grid_figure(f["i_images"], out / "i_target.png")
+    plot.pga_steps_figure(f["i_images"][f["worst"]][0], f["steps"], out / "pga_iterations.png", title=f["worst"])
+    render(out, "turbulence.html", name=result.name, description=result.description, rows=f["rows"],
+           metrics=result.metrics, scenario=result.scenario_text)
+
+
+WRITERS["turbulence_pga"] = write_turbulence
+
+
+def write_chirp(result: RunResult, out: Path) -> None:
+    """Heat maps of Tables 2 and 3, the range profiles, and report.html of seed 002."""
+    from . import PAPER_TABLE1, table3_cells
+    sweeps = result.figures["sweeps"]
+    for label, (rows_, cols_, grids, irws) in sweeps.items():
+        plot.sweep_heatmaps(rows_, cols_, grids, irws, out / f"{label}.png",
+                            ("d_rlo (m)", "d_r (m)") if label == "table2" else ("R2", "R1"))
+    plot.range_profiles_figure(result.datasets["profiles.nc"], out / "profiles.png")
+    render(out, "chirp.html", name=result.name, description=result.description, table1=result.figures["table1"],
+           paper=PAPER_TABLE1, metrics=result.metrics, cells=table3_cells(sweeps["table3"]),
+           scenario=result.scenario_text)
+
+
+WRITERS["nonlinear_chirp"] = write_chirp
+
+
+def write_spaceborne(result: RunResult, out: Path) -> None:
+    """Figures 5-10 of seed 001 and its report.html."""
+    from ..geometry.orbit import max_squint_for, resolution_vs_squint
+    f = result.figures
+    q = np.linspace(-20, 20, 201)
+    plot.resolution_squint_figure(f["squints"], f["measured"], q, resolution_vs_squint(f["wavelength"], f["L0"],
+                                  f["sub_length"], q), max_squint_for(1.1), out / "resolution_squint.png")
+    plot.spaceborne_figures(f["truth"], f["fig7"], f["single"], f["stack"], f["counts"], f["curve"], f["snr_theory"],
+                            f["az"], f["rg"], out)
+    render(out, "spaceborne.html", name=result.name, description=result.description, metrics=result.metrics,
+           scenario=result.scenario_text)
+
+
+WRITERS["spaceborne_geo"] = write_spaceborne
+
+
+def write_downlooking(result: RunResult, out: Path) -> None:
+    """Figures and report.html of seeds 000/003."""
+    from ..plot import downlooking as dlplot
+    from . import downlooking_context
+    f, m = result.figures, result.metrics
+    if "point_details" in f:
+        ds_pt = result.datasets["image_point.nc"]
+        plot.image_db(ds_pt, out / "image_point.png", title="point target, eq-19 image (forward + backward)",
+                      truth=f["truth"])
+        plot.cuts(cut_curves(f["point_details"], ds_pt.attrs), m, out / "cuts_point.png")
+        dlplot.raw_current(f["current"], f["Y"], f["fast_time"], out / "raw_point.png")
+    if "scene" in f:
+        dlplot.scene_figure(*f["scene"], f["design"], out / "scene.png")
+    if "terrain" in f:
+        dlplot.terrain_figures(f["terrain"], f["design"], f["experiment"], out)
+    if "disturbance_images" in f:
+        dlplot.disturbance_figure(f["disturbance_images"], out / "disturbance.png")
+    render(out, "downlooking.html", **downlooking_context(result.name, result.description, m, f["design"],
+                                                          f["disturbance_rows"], result.scenario_text))
+
+
+WRITERS["downlooking"] = write_downlooking
