@@ -19,7 +19,7 @@ demo: $(STAMP)
 
 test: $(STAMP)
 	$(VENV)/bin/lint-imports --no-cache
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q --doctest-modules src/salkit tests
 
 bench: $(STAMP)
 	$(PY) -m pip install --quiet -e ".[bench]"

@@ -5,7 +5,15 @@ import types
 
 
 def make_callable(module_name: str, func_name: str) -> None:
-    """Turn ``sys.modules[module_name]`` into a module whose call runs its ``func_name``."""
+    """Turn ``sys.modules[module_name]`` into a module whose call runs its ``func_name``.
+
+    Parameters
+    ----------
+    module_name : str
+        A module already in ``sys.modules``.
+    func_name : str
+        The function of that module a call runs.
+    """
     mod = sys.modules[module_name]
 
     class _CallableModule(types.ModuleType):

@@ -51,7 +51,12 @@ def parse_size(text: str, field: str = "--max-memory") -> int:
 
 
 def set_limit(nbytes: int | None) -> None:
-    """Set (or with None clear) the user's memory limit, bytes."""
+    """Set (or with None clear) the user's memory limit, bytes.
+
+    Parameters
+    ----------
+    nbytes : int or None
+    """
     global _LIMIT
     _LIMIT = None if nbytes is None else int(nbytes)
 
@@ -69,7 +74,13 @@ def _cgroup_room() -> int | None:
 
 def available_memory() -> int:
     """Bytes this process may still use: the smallest of MemAvailable, the cgroup's room and the
-    user's limit (``set_limit``, ``SALKIT_MAX_MEMORY``)."""
+    user's limit (``set_limit``, ``SALKIT_MAX_MEMORY``).
+
+    Returns
+    -------
+    int
+        Bytes.
+    """
     cands = []
     try:
         for line in open("/proc/meminfo"):
@@ -95,7 +106,22 @@ def available_memory() -> int:
 
 
 def gib(n: float) -> str:
-    """A byte count in GiB, for messages."""
+    """A byte count in GiB, for messages.
+
+    Parameters
+    ----------
+    n : float
+        Bytes.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> gib(3 * 2 ** 30)
+    '3 GiB'
+    """
     return f"{n / 2 ** 30:.3g} GiB"
 
 

@@ -61,7 +61,24 @@ class TurbulentPath:
 
 def ray_crossings(positions, targets, z, u0):
     """Where the rays from ``positions`` (P, 3) to ``targets`` (T, 3) cross the layer at distance
-    ``z`` (m) along the path axis ``u0``: points (P * T, 3), m."""
+    ``z`` (m) along the path axis ``u0``: points (P * T, 3), m.
+
+    Parameters
+    ----------
+    positions : float64 (P, 3)
+        Antenna positions, m.
+    targets : float64 (T, 3)
+        Scatterer positions, m.
+    z : float
+        Distance of the layer from the scene along ``u0``, m.
+    u0 : float64 (3,)
+        Unit path axis (scene to antenna).
+
+    Returns
+    -------
+    float64 (P * T, 3)
+        Crossing points, m.
+    """
     p = positions[:, None, :]
     t = targets[None, :, :]
     lam = (z - t @ u0) / np.maximum((p - t) @ u0, 1e-30)
@@ -75,6 +92,36 @@ def build_path(cn2, slant_range: float, wavelength: float, layers: int, n: int, 
 
     ``cn2`` is a constant or one value per layer (index 0 next to the scene): a profiled path.
     Warns (with the numbers) when the layer spacing exceeds seed 004 eq 8 for the strongest layer.
+
+    Parameters
+    ----------
+    cn2 : float or sequence of float
+        Cn^2, m^(-2/3): constant, or one value per layer.
+    slant_range : float
+        Path length, m.
+    wavelength : float
+        m.
+    layers : int
+        Number of equal layers.
+    n : int
+        Screen size, samples.
+    dx : float
+        Screen sample spacing, m.
+    u0 : float64 (3,)
+        Unit path axis, scene to antenna.
+    a : float64 (3,)
+        Unit along-track axis (the screens' first axis, made orthogonal to ``u0``).
+    seed : int
+        Seed of the screens (one draw, scaled per layer).
+    outer_scale, inner_scale : float, optional
+        Von Karman L0 and inner scale l0, m.
+    centre : (float, float)
+        Offset of the screens' centre in the layer plane, m.
+
+    Returns
+    -------
+    TurbulentPath
+        Screens (rad), layer distances z (m), per-layer r0 (m) and the frame.
     """
     if layers < 1:
         raise ScenarioError("atmosphere.layers", layers, "must be >= 1")
@@ -107,7 +154,30 @@ def build_path(cn2, slant_range: float, wavelength: float, layers: int, n: int, 
 
 @njit(cache=True, inline="always")
 def path_phase(px, py, pz, tx, ty, tz, screens, z, origin, dx, u0, a, b):
-    """One-way phase (rad) along the ray p -> t through all layers (bilinear interpolation)."""
+    """One-way phase (rad) along the ray p -> t through all layers (bilinear interpolation).
+
+    Parameters
+    ----------
+    px, py, pz : float
+        Antenna position, m.
+    tx, ty, tz : float
+        Scatterer position, m.
+    screens : float (L, n, n)
+        Phase screens, rad.
+    z : float64 (L,)
+        Layer distances from the scene, m.
+    origin : float64 (2,)
+        Screen origin in the layer plane, m.
+    dx : float
+        Screen spacing, m.
+    u0, a, b : float64 (3,)
+        Path axis and the screens' two axes.
+
+    Returns
+    -------
+    float
+        rad.
+    """
     L, n, _ = screens.shape
     dpx, dpy, dpz = px - tx, py - ty, pz - tz
     den = dpx * u0[0] + dpy * u0[1] + dpz * u0[2]
@@ -137,7 +207,22 @@ def path_phase(px, py, pz, tx, ty, tz, screens, z, origin, dx, u0, a, b):
 
 @njit(parallel=True, cache=True)
 def two_way_phases(positions, targets, screens, z, origin, dx, u0, a, b):
-    """Two-way path phase (P, S) rad: twice the one-way phase along the same ray."""
+    """Two-way path phase (P, S) rad: twice the one-way phase along the same ray.
+
+    Parameters
+    ----------
+    positions : float64 (P, 3)
+        Antenna positions, m.
+    targets : float64 (S, 3)
+        Scatterer positions, m.
+    screens, z, origin, dx, u0, a, b
+        As :func:`path_phase`.
+
+    Returns
+    -------
+    float64 (P, S)
+        rad.
+    """
     P = positions.shape[0]
     S = targets.shape[0]
     out = np.empty((P, S), np.float64)

@@ -44,6 +44,11 @@ def r0_from_cn2(cn2, path_length, wavelength, wave: str = "plane"):
     wavelength : float
         m.
     wave : {"plane", "spherical"}
+
+    Returns
+    -------
+    float or ndarray
+        Fried parameter, m.
     """
     cn2 = _positive("cn2", cn2)
     _positive("path_length", path_length)
@@ -54,7 +59,28 @@ def r0_from_cn2(cn2, path_length, wavelength, wave: str = "plane"):
 
 
 def cn2_from_r0(r0, path_length, wavelength, wave: str = "plane"):
-    """Inverse of :func:`r0_from_cn2`: Cn^2 (m^-2/3) giving Fried parameter ``r0`` (m)."""
+    """Inverse of :func:`r0_from_cn2`: Cn^2 (m^-2/3) giving Fried parameter ``r0`` (m).
+
+    Parameters
+    ----------
+    r0 : float or array
+        Fried parameter, m.
+    path_length : float
+        m.
+    wavelength : float
+        m.
+    wave : {"plane", "spherical"}
+
+    Returns
+    -------
+    float or ndarray
+        Cn^2, m^(-2/3).
+
+    Examples
+    --------
+    >>> round(float(r0_from_cn2(cn2_from_r0(0.05, 1e4, 1.55e-6), 1e4, 1.55e-6)), 6)
+    0.05
+    """
     r0 = _positive("r0", r0)
     _positive("path_length", path_length)
     c = PLANE if wave == "plane" else SPHERICAL
@@ -68,6 +94,23 @@ def r0_path(cn2_profile, z, wavelength, wave: str = "plane", source_at=None):
     Plane wave: r0 = (0.423 k^2 int Cn^2 dz)^(-3/5). Spherical wave from a point source at
     ``source_at`` (default the end z[-1]): the weight ((z - z_obs)/L)^(5/3) applies, with
     0.423 in place of 0.159 for the weighted integral.
+
+    Parameters
+    ----------
+    cn2_profile : float64 (N,)
+        Cn^2 at ``z``, m^(-2/3).
+    z : float64 (N,)
+        Positions along the path, m (increasing).
+    wavelength : float
+        m.
+    wave : {"plane", "spherical"}
+    source_at : float, optional
+        Position of the point source (spherical wave), m.
+
+    Returns
+    -------
+    float
+        Fried parameter, m.
     """
     cn2 = np.asarray(cn2_profile, dtype=np.float64)
     z = np.asarray(z, dtype=np.float64)
@@ -85,13 +128,45 @@ def r0_path(cn2_profile, z, wavelength, wave: str = "plane", source_at=None):
 
 
 def combine_r0(r0s):
-    """Fried parameter of independent layers: r0^(-5/3) = sum r0_i^(-5/3)."""
+    """Fried parameter of independent layers: r0^(-5/3) = sum r0_i^(-5/3).
+
+    Parameters
+    ----------
+    r0s : sequence of float
+        Fried parameters of the layers, m.
+
+    Returns
+    -------
+    float
+        m.
+
+    Examples
+    --------
+    >>> round(combine_r0([0.1, 0.1]) / 0.1, 4)  # two equal layers: 2^(-3/5)
+    0.6598
+    """
     r = _positive("r0", r0s)
     return float(np.sum(r ** (-5 / 3)) ** (-3 / 5))
 
 
 def turbulence_class(cn2: float) -> str:
-    """Seed 004 classes: very weak < 6e-16 < weak < 6e-15 < medium < 6e-14 < strong < 6e-13 < very strong."""
+    """Seed 004 classes: very weak < 6e-16 < weak < 6e-15 < medium < 6e-14 < strong < 6e-13 < very strong.
+
+    Parameters
+    ----------
+    cn2 : float
+        m^(-2/3).
+
+    Returns
+    -------
+    str
+        ``very weak``, ``weak``, ``medium``, ``strong`` or ``very strong``.
+
+    Examples
+    --------
+    >>> turbulence_class(1e-14)
+    'medium'
+    """
     c = float(_positive("cn2", cn2))
     for limit, name in CLASSES:
         if c < limit:
@@ -101,7 +176,20 @@ def turbulence_class(cn2: float) -> str:
 
 def max_layer_spacing(cn2: float, wavelength: float) -> float:
     """Largest screen spacing (m) keeping the Fresnel zone inside r0, seed 004 eq 8:
-    Z <= 9.4 lambda_um^(7/11) (1e-16 / Cn^2)^(6/11) km."""
+    Z <= 9.4 lambda_um^(7/11) (1e-16 / Cn^2)^(6/11) km.
+
+    Parameters
+    ----------
+    cn2 : float
+        m^(-2/3).
+    wavelength : float
+        m.
+
+    Returns
+    -------
+    float
+        m.
+    """
     c = float(_positive("cn2", cn2))
     lam_um = float(_positive("wavelength", wavelength)) * 1e6
     return 9.4 * lam_um ** (7 / 11) * (1e-16 / c) ** (6 / 11) * 1e3
@@ -112,6 +200,21 @@ def rytov_variance(cn2, path_length, wavelength, wave: str = "plane"):
 
     Phase-only screens describe the field while sigma_R^2 << 1 (weak scintillation); beyond ~0.3
     amplitude effects matter and split-step propagation is needed.
+
+    Parameters
+    ----------
+    cn2 : float or array
+        m^(-2/3).
+    path_length : float
+        m.
+    wavelength : float
+        m.
+    wave : {"plane", "spherical"}
+
+    Returns
+    -------
+    float or ndarray
+        Dimensionless.
     """
     cn2 = _positive("cn2", cn2)
     k = 2 * math.pi / wavelength
@@ -124,6 +227,20 @@ def psd(f, r0: float, outer_scale: float | None = None, inner_scale: float | Non
 
     Kolmogorov: 0.02293 r0^(-5/3) f^(-11/3); von Karman: (f^2 + 1/L0^2)^(-11/6); inner scale:
     times exp(-(f/fm)^2), fm = 5.92 / (2 pi l0).
+
+    Parameters
+    ----------
+    f : array
+        Spatial frequency, cycles/m.
+    r0 : float
+        Fried parameter, m.
+    outer_scale, inner_scale : float, optional
+        m.
+
+    Returns
+    -------
+    ndarray
+        rad^2 m^2.
     """
     f = np.asarray(f, dtype=np.float64)
     f2 = f * f
@@ -141,7 +258,20 @@ VK_CONST = (special.gamma(11 / 6) / (2 ** (5 / 6) * math.pi ** (8 / 3))) * (24 /
 
 
 def phase_variance(r0: float, outer_scale: float) -> float:
-    """Phase variance (rad^2) of a von Karman screen: (L0/r0)^(5/3) C 2^(-1/6) Gamma(5/6)."""
+    """Phase variance (rad^2) of a von Karman screen: (L0/r0)^(5/3) C 2^(-1/6) Gamma(5/6).
+
+    Parameters
+    ----------
+    r0 : float
+        Fried parameter, m.
+    outer_scale : float
+        L0, m.
+
+    Returns
+    -------
+    float
+        rad^2.
+    """
     return (outer_scale / r0) ** (5 / 3) * VK_CONST * 2 ** (-1 / 6) * special.gamma(5 / 6)
 
 
@@ -174,6 +304,25 @@ def structure_function(r, r0: float, outer_scale: float | None = None, inner_sca
     Kolmogorov: 6.88 (r/r0)^(5/3). Von Karman (outer scale L0): 2 (B(0) - B(r)) with the closed-form
     covariance B(r) = (L0/r0)^(5/3) C x^(5/6) K_5/6(x), x = 2 pi r / L0. With an inner scale:
     4 pi int Phi(f) (1 - J0(2 pi f r)) f df on a dense logarithmic grid.
+
+    Parameters
+    ----------
+    r : array
+        Separations, m.
+    r0 : float
+        Fried parameter, m.
+    outer_scale, inner_scale : float, optional
+        m.
+
+    Returns
+    -------
+    ndarray
+        rad^2.
+
+    Examples
+    --------
+    >>> structure_function([0.1], 0.1).round(2).tolist()  # 6.88 at r = r0
+    [6.88]
     """
     r = np.atleast_1d(np.asarray(r, dtype=np.float64))
     has_L0 = outer_scale is not None and np.isfinite(outer_scale)

@@ -71,7 +71,19 @@ def autofocus(image: xr.Dataset, method: str = "pga", kernel: str = "lumv", max_
 
 
 def history_metrics(res: AutofocusResult, prefix: str = "autofocus") -> dict:
-    """Flat numbers for metrics.json: per-iteration phase RMS and entropy, and the summary."""
+    """Flat numbers for metrics.json: per-iteration phase RMS and entropy, and the summary.
+
+    Parameters
+    ----------
+    res : AutofocusResult
+    prefix : str
+        Key prefix.
+
+    Returns
+    -------
+    dict
+        Phase RMS (rad), entropy (nats), iterations.
+    """
     out = {f"{prefix}_iterations": len(res.history) - 1, f"{prefix}_converged": int(res.converged),
            f"{prefix}_best_iteration": res.best_iteration}
     for h in res.history:
@@ -82,7 +94,18 @@ def history_metrics(res: AutofocusResult, prefix: str = "autofocus") -> dict:
 
 def pulse_metrics(res: PulseAutofocusResult, prefix: str = "autofocus") -> dict:
     """Flat numbers for metrics.json from a per-pulse autofocus: sweeps, sharpness per sweep,
-    pixels used, RMS of the applied correction (rad)."""
+    pixels used, RMS of the applied correction (rad).
+
+    Parameters
+    ----------
+    res : PulseAutofocusResult
+    prefix : str
+        Key prefix.
+
+    Returns
+    -------
+    dict
+    """
     out = {f"{prefix}_iterations": len(res.history) - 1, f"{prefix}_converged": int(res.converged),
            f"{prefix}_pixels": res.n_pixels, f"{prefix}_phase_rms": float(np.sqrt(np.mean(res.phase ** 2)))}
     for h in res.history:

@@ -84,6 +84,19 @@ def estimate_phase(G: np.ndarray, kernel: str = "lumv", ev_iter: int = 30) -> np
     ``lumv``: linear unbiased minimum variance, sum_j Im(G*_k dG_k) / sum_j |G_k|^2, integrated.
     ``ev``: eigenvector maximum likelihood, phase of the principal eigenvector of sum_j G_j G_j^H
     (power iteration).
+
+    Parameters
+    ----------
+    G : complex (n_k, n_lines)
+        Range lines in the phase-history domain.
+    kernel : {"pd", "lumv", "ev"}
+    ev_iter : int
+        Power iterations of ``ev``.
+
+    Returns
+    -------
+    float64 (n_k,)
+        rad.
     """
     if kernel == "pd":
         d = np.angle(np.sum(G[1:] * np.conj(G[:-1]), axis=1))

@@ -90,7 +90,20 @@ def fix_ramp(phase: np.ndarray) -> np.ndarray:
 
 
 def as_dataset(ph: PhaseHistory, data: np.ndarray, attrs: dict | None = None) -> xr.Dataset:
-    """A phase-history dataset (docs/data-format.md) from a :class:`PhaseHistory` and new data."""
+    """A phase-history dataset (docs/data-format.md) from a :class:`PhaseHistory` and new data.
+
+    Parameters
+    ----------
+    ph : PhaseHistory
+    data : complex (P, M)
+        The new phase history.
+    attrs : dict
+        Extra attributes.
+
+    Returns
+    -------
+    xarray.Dataset
+    """
     a = dict(ph.attrs)
     a.update(attrs or {})
     a["salkit_kind"] = "phase_history"

@@ -78,7 +78,21 @@ def _sweep(B, a, I):
 
 
 def sharpness(image: np.ndarray) -> float:
-    """Image sharpness sum |I|^4 / (sum |I|^2)^2 (dimensionless; larger is sharper)."""
+    """Image sharpness sum |I|^4 / (sum |I|^2)^2 (dimensionless; larger is sharper).
+
+    Parameters
+    ----------
+    image : complex ndarray
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> sharpness(np.array([1.0, 0, 0, 0]))  # all power in one pixel
+    1.0
+    """
     p = np.abs(image).astype(np.float64) ** 2
     s = p.sum()
     return float((p ** 2).sum() / s ** 2) if s > 0 else 0.0

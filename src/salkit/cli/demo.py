@@ -22,7 +22,18 @@ DEMO_SETS: dict[str, list[str]] = {
 
 
 def main(argv=None) -> int:
-    """Run every shipped example into ``--out`` (default results/) and write an index page."""
+    """Run every shipped example into ``--out`` (default results/) and write an index page.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        Command-line arguments (default ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        Exit status: 0, or 2 for bad input.
+    """
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--out", default="results")
     ap.add_argument("--only", nargs="*", default=None)

@@ -470,7 +470,13 @@ def _on_signal(signum, frame):  # pragma: no cover - exercised by subprocess tes
 def main():  # pragma: no cover
     """Entry point of the ``salkit`` command: SIGINT and SIGTERM unwind the same way, so that
     nothing is left half-written; the signal is also recorded, so that a run whose exception was
-    swallowed (inside a finaliser) is still discarded at its end."""
+    swallowed (inside a finaliser) is still discarded at its end.
+
+    Returns
+    -------
+    object
+        What the typer application returns (it exits with the command's status).
+    """
     import signal
     signal.signal(signal.SIGTERM, _on_signal)
     signal.signal(signal.SIGINT, _on_signal)

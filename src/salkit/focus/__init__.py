@@ -21,15 +21,13 @@ from ..params.models import Grid, Processing, Scenario
 from ..params.scenario import stored_scenario
 from ..resources import check_memory
 from ..signals.windows import Window
+from ..tolerances import GRID_SPACING_OF_RESOLUTION
 from ..simulate import memory_estimate as simulate_memory_estimate, signal_shape
 from . import bp, omegak, pfa  # noqa: F401  (each registers its former)
 from .downlooking import focus_downlooking_raw
 from .formers import FORMERS, ImageGrid, ImageResult, get_former, register_former
 from .phasehistory import PhaseHistory, default_grid, phase_history, theory_resolution
 from .rangecomp import range_compress
-
-#: Largest ratio of grid spacing to resolution accepted (1 % for rounding in the scenario).
-GRID_SPACING_TOLERANCE = 1.01
 
 
 def memory_estimate(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str = "bp",
@@ -150,6 +148,11 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
     Returns
     -------
     xarray.Dataset
+
+    Parameters
+    ----------
+    raw, processing, scenario, algorithm, grid, window_name, plane, progress
+        As :func:`focus`.
     """
     if scenario is None:
         scenario = stored_scenario(raw.attrs)
@@ -174,7 +177,7 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
     win = Window(window_name or p.window, p.taylor_nbar, p.taylor_sll)
     ig = ImageGrid.of(ph, g)
     res = theory_resolution(ph, ig.plane)
-    if g.dx > res["azimuth"] * GRID_SPACING_TOLERANCE or g.dy > res["range"] * GRID_SPACING_TOLERANCE:
+    if g.dx > res["azimuth"] * GRID_SPACING_OF_RESOLUTION or g.dy > res["range"] * GRID_SPACING_OF_RESOLUTION:
         raise ScenarioError("processing.grid", f"dx={g.dx:g}, dy={g.dy:g}",
                             f"spacing must not exceed the resolution (azimuth {res['azimuth']:.4g} m, "
                             f"range {res['range']:.4g} m)")
@@ -247,7 +250,22 @@ def add_collection_geometry(image: xr.Dataset, raw: xr.Dataset, ph: PhaseHistory
     """Carry the per-pulse antenna positions and times of the collection with its image
     (variables ``collection_position`` (pulse, xyz), m, and ``collection_time`` (pulse,), s), so
     that exports (SICD) need no other file. Without pulse times in the data, the pulse index
-    times 1 ms stands in and ``collection_time_nominal = 1``."""
+    times 1 ms stands in and ``collection_time_nominal = 1``.
+
+    Parameters
+    ----------
+    image : xarray.Dataset
+        The formed image.
+    raw : xarray.Dataset
+        The data it was formed from (for ``slow_time``).
+    ph : PhaseHistory
+        Its phase history (positions, m).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``image`` with ``collection_position`` and ``collection_time``.
+    """
     P = ph.positions.shape[0]
     t = None
     if "slow_time" in raw.coords and raw.sizes.get("slow_time") == P:

@@ -116,7 +116,18 @@ def bp_kernel(packed, r0, inv_dr, pos, ref, row_origin, rdir, rg, cyc_per_m, wei
 
 
 def pack_profiles(prof: np.ndarray) -> np.ndarray:
-    """(P, Nb) complex -> (P, Nb, 4) float32 (re, im, forward differences)."""
+    """(P, Nb) complex -> (P, Nb, 4) float32 (re, im, forward differences).
+
+    Parameters
+    ----------
+    prof : complex (P, Nb)
+        Range profiles.
+
+    Returns
+    -------
+    float32 (P, Nb, 4)
+        Real part, imaginary part and their forward differences, for linear interpolation.
+    """
     P, nb = prof.shape
     out = np.zeros((P, nb, 4), np.float32)
     out[:, :, 0] = prof.real
@@ -138,6 +149,17 @@ def range_profiles(ph: np.ndarray, freq: np.ndarray, upsample: int, range_window
         Bin spacing, m.
     f_c : float
         Reference frequency (sample M//2), Hz.
+
+    Parameters
+    ----------
+    ph : complex (P, M)
+        Phase history.
+    freq : float64 (M,)
+        Frequencies, Hz, increasing and uniform.
+    upsample : int
+        FFT length over M.
+    range_window : float (M,)
+        Amplitude window over the frequencies.
     """
     P, M = ph.shape
     df = float(freq[1] - freq[0])

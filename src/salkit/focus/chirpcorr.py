@@ -54,6 +54,31 @@ def estimate_nonlinear_phase(ref: np.ndarray, t: np.ndarray, f0: float, k: float
     PhaseUnwrapError
         When the reference is too noisy to unwrap (phase steps beyond pi/2 RMS or a fit residual
         above ``min_snr_check`` rad RMS).
+
+    Parameters
+    ----------
+    ref : complex (N,)
+        Dechirped reference-channel beat.
+    t : float64 (N,)
+        Fast time, s.
+    f0 : float
+        Optical frequency at t = 0, Hz.
+    k : float
+        Chirp rate, Hz/s.
+    delay : float
+        Reference delay D, s.
+    order : int
+        Highest polynomial order.
+    min_snr_check : bool
+        Refuse a reference whose phase cannot be unwrapped.
+    method : {"polynomial", "fourier"}
+    bandwidth : float, optional
+        Highest frequency of the error kept by ``fourier``, Hz.
+
+    Returns
+    -------
+    float64 (N,)
+        e(t), rad.
     """
     if delay == 0:
         raise PhaseUnwrapError("the reference delay equals the LO delay (zero-length reference): "
@@ -90,7 +115,23 @@ def estimate_nonlinear_phase(ref: np.ndarray, t: np.ndarray, f0: float, k: float
 
 
 def correct_deskew(signal: np.ndarray, e: np.ndarray, adc_rate: float, k: float) -> np.ndarray:
-    """Meta et al. 2007: exp(+j e) -> deskew (RVP removal) -> exp(-j e). Returns RVP-free data."""
+    """Meta et al. 2007: exp(+j e) -> deskew (RVP removal) -> exp(-j e). Returns RVP-free data.
+
+    Parameters
+    ----------
+    signal : complex (P, N)
+        Dechirped target channel.
+    e : float64 (N,)
+        Nonlinear phase e(t), rad.
+    adc_rate : float
+        Hz.
+    k : float
+        Chirp rate, Hz/s.
+
+    Returns
+    -------
+    complex64 (P, N)
+    """
     w = np.exp(1j * e).astype(np.complex64)
     return (deskew(signal * w[None, :], adc_rate, k) * np.conj(w)[None, :]).astype(np.complex64)
 
@@ -100,6 +141,21 @@ def correct_resample(signal: np.ndarray, e: np.ndarray, t: np.ndarray, k: float)
 
     The target sample at linear-sweep time t_lin is taken where nu(t) = f0 + k t_lin (sinc
     interpolation of the oversampled beat). First order in the delay; RVP is not removed.
+
+    Parameters
+    ----------
+    signal : complex (P, N)
+        Dechirped target channel.
+    e : float64 (N,)
+        Nonlinear phase e(t), rad.
+    t : float64 (N,)
+        Fast time, s.
+    k : float
+        Chirp rate, Hz/s.
+
+    Returns
+    -------
+    complex64 (P, N)
     """
     from .interp import resample_rows
     de = np.gradient(e, t) / TWO_PI  # Hz
@@ -116,7 +172,23 @@ def correct_resample(signal: np.ndarray, e: np.ndarray, t: np.ndarray, k: float)
 def paper_transfer(n: int, dfreq: float, delay_target: tuple[float, float],
                    delay_reference: tuple[float, float]) -> np.ndarray:
     """Seed 002 eq 7: H_m = exp(-i pi m (tzLo + tz) df) sin(pi m (tzLo - tz) df) /
-    [exp(-i pi m (trLo + tr) df) sin(pi m (trLo - tr) df)], m the DFT index (signed)."""
+    [exp(-i pi m (trLo + tr) df) sin(pi m (trLo - tr) df)], m the DFT index (signed).
+
+    Parameters
+    ----------
+    n : int
+        DFT length.
+    dfreq : float
+        DFT bin spacing, Hz.
+    delay_target : (float, float)
+        (tz, tzLo), s.
+    delay_reference : (float, float)
+        (tr, trLo), s.
+
+    Returns
+    -------
+    complex128 (n,)
+    """
     m = sfft.fftfreq(n, 1.0 / n)
     tz, tzlo = delay_target
     tr, trlo = delay_reference
@@ -132,7 +204,25 @@ def correct_paper(signal: np.ndarray, ref: np.ndarray, t: np.ndarray, adc_rate: 
     """Seed 002's method for one target delay (as written): unwrap the reference beat phase, DFT,
     map to the target delays with eq 7 (df = adc_rate / N), inverse DFT, and multiply the target
     channel by the conjugate signal exp(-j zeta_zz(t)) (the spectral convolution of eq 15-18).
-    Only the target at ``delay_target`` is matched; the beat moves to near zero frequency."""
+    Only the target at ``delay_target`` is matched; the beat moves to near zero frequency.
+
+    Parameters
+    ----------
+    signal : complex (P, N)
+        Dechirped target channel.
+    ref : complex (N,)
+        Reference beat.
+    t : float64 (N,)
+        Fast time, s.
+    adc_rate : float
+        Hz.
+    delay_target, delay_reference : (float, float)
+        As :func:`paper_transfer`, s.
+
+    Returns
+    -------
+    complex64 (P, N)
+    """
     n = t.size
     zeta = np.unwrap(np.angle(ref))
     Z = sfft.fft(zeta)
@@ -142,7 +232,22 @@ def correct_paper(signal: np.ndarray, ref: np.ndarray, t: np.ndarray, adc_rate: 
 
 
 def spectral_width(profile: np.ndarray, df: float, level_db: float = -3.0) -> float:
-    """Width (Hz) of a power spectrum's main peak at ``level_db`` (the seed's figure of merit)."""
+    """Width (Hz) of a power spectrum's main peak at ``level_db`` (the seed's figure of merit).
+
+    Parameters
+    ----------
+    profile : complex or float (N,)
+        Spectrum (amplitude).
+    df : float
+        Bin spacing, Hz.
+    level_db : float
+        Level below the peak, dB (negative).
+
+    Returns
+    -------
+    float
+        Hz.
+    """
     p = np.abs(profile) ** 2
     i = int(np.argmax(p))
     thr = p[i] * 10 ** (level_db / 10)

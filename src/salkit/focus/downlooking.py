@@ -186,7 +186,22 @@ def focus_downlooking(current: np.ndarray, Y: np.ndarray, design: DLDesign, exp,
 
 
 def image_attrs(d: DLDesign, exp, look_angle_deg: float, kind: str) -> dict:
-    """Attributes of a DL-SAL image dataset (theory of the unweighted sinc PSF)."""
+    """Attributes of a DL-SAL image dataset (theory of the unweighted sinc PSF).
+
+    Parameters
+    ----------
+    d : DLDesign
+    exp : DownlookingExperiment
+    look_angle_deg : float
+        deg.
+    kind : str
+        What the image holds.
+
+    Returns
+    -------
+    dict
+        Resolutions and IRW theory (m), PSLR/ISLR theory (dB), fringe period (m).
+    """
     wi = window_ipr(exp.window)
     return {
         "algorithm": f"downlooking:{exp.order}", "window": exp.window, "plane": "beam",
@@ -202,7 +217,26 @@ def image_attrs(d: DLDesign, exp, look_angle_deg: float, kind: str) -> dict:
 
 def image_dataset(img: np.ndarray, imgs: DLImages, d: DLDesign, exp, look: float, kind: str,
                   truth: np.ndarray | None = None, scenario_text: str = "") -> xr.Dataset:
-    """A DL-SAL image in the foundation image format (azimuth = along track, range = cross track)."""
+    """A DL-SAL image in the foundation image format (azimuth = along track, range = cross track).
+
+    Parameters
+    ----------
+    img : complex (ny, nx)
+    imgs : DLImages
+        For the axes ``y``, ``x`` (m).
+    d : DLDesign
+    exp : DownlookingExperiment
+    look : float
+        Look angle, deg.
+    kind : str
+    truth : float (N, 2), optional
+        True (along, cross) positions, m.
+    scenario_text : str
+
+    Returns
+    -------
+    xarray.Dataset
+    """
     ex, ey, b = boresight_frame(look)
     plane = ImagePlane(origin=np.zeros(3), azimuth=ey, range=ex)
     at = image_attrs(d, exp, look, kind)

@@ -18,7 +18,20 @@ _TABLES: dict = {}
 
 
 def kernel_table(half: int = 4, beta: float = 6.0) -> np.ndarray:
-    """Tabulated Kaiser-windowed sinc of half-width ``half`` samples."""
+    """Tabulated Kaiser-windowed sinc of half-width ``half`` samples.
+
+    Parameters
+    ----------
+    half : int
+        Half-width, samples.
+    beta : float
+        Kaiser shape.
+
+    Returns
+    -------
+    float32 ndarray
+        Kernel values on a fine grid (cached).
+    """
     key = (half, beta)
     if key not in _TABLES:
         _TABLES[key] = _kernel_table(half, beta)
@@ -64,6 +77,17 @@ def interp_rows(data, pos, half, table, out):
 
     ``pos`` holds fractional input indices; positions outside [-0.5, N - 0.5] give 0. Interior
     outputs take a branch-free path over 2*half contiguous taps.
+
+    Parameters
+    ----------
+    data : complex64 (R, N)
+    pos : float64 (R, J)
+        Fractional input indices.
+    half : int
+    table : float32 ndarray
+        :func:`kernel_table`.
+    out : complex64 (R, J)
+        Filled in place.
     """
     for r in prange(data.shape[0]):
         row = data[r]
@@ -73,7 +97,18 @@ def interp_rows(data, pos, half, table, out):
 
 @njit(parallel=True, cache=True, fastmath=True, boundscheck=False)
 def interp_rows_linear(data, x0, step, half, table, out):
-    """Like :func:`interp_rows` with positions x0[r] + j * step[r] (no position array)."""
+    """Like :func:`interp_rows` with positions x0[r] + j * step[r] (no position array).
+
+    Parameters
+    ----------
+    data : complex64 (R, N)
+    x0, step : float64 (R,)
+        First position and step of each row, input samples.
+    half : int
+    table : float32 ndarray
+    out : complex64 (R, J)
+        Filled in place.
+    """
     for r in prange(data.shape[0]):
         row = data[r]
         for j in range(out.shape[1]):
@@ -81,7 +116,22 @@ def interp_rows_linear(data, x0, step, half, table, out):
 
 
 def resample_rows(data: np.ndarray, pos: np.ndarray, half: int = 4, beta: float = 6.0) -> np.ndarray:
-    """Resample each row of ``data`` (R, N) at fractional indices ``pos`` (R, J), complex64 out."""
+    """Resample each row of ``data`` (R, N) at fractional indices ``pos`` (R, J), complex64 out.
+
+    Parameters
+    ----------
+    data : complex (R, N)
+    pos : float64 (R, J)
+        Fractional input indices.
+    half : int
+        Kernel half-width, samples.
+    beta : float
+        Kaiser shape.
+
+    Returns
+    -------
+    complex64 (R, J)
+    """
     out = np.empty(pos.shape, np.complex64)
     interp_rows(np.ascontiguousarray(data, dtype=np.complex64), np.ascontiguousarray(pos, dtype=np.float64),
                 half, kernel_table(half, beta), out)
@@ -96,6 +146,23 @@ def azimuth_pass(d1t, ts, kx, ky, v_a, v_r, half, table, buf, ia, ir):
     pulses' monotonic (increasing) ``ts`` = tan(look) sequence; its fractional pulse index is found
     by bisection and linear interpolation, then ``d1t[j]`` (pulses along the row) is sinc-
     interpolated there. buf[ia[i], ir[j]] = value * v_a[i] * v_r[j].
+
+    Parameters
+    ----------
+    d1t : complex64 (Ny, P)
+        Range-interpolated data, transposed.
+    ts : float64 (P,)
+        tan of each pulse's look angle, increasing.
+    kx, ky : float64
+        K-space axes, rad/m.
+    v_a, v_r : float32
+        Windows over the K-space columns and rows.
+    half : int
+    table : float32 ndarray
+    buf : complex64 2-D
+        FFT buffer, filled in place.
+    ia, ir : int64
+        Buffer indices of the columns and rows.
     """
     nky = ky.shape[0]
     nkx = kx.shape[0]

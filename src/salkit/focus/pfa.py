@@ -93,6 +93,15 @@ def cover_axes(az: np.ndarray, rg: np.ndarray, extent: dict, margin: int = 8):
         Extended axes (m).
     (i0, j0) : tuple of int
         Index of ``az[0]``, ``rg[0]`` in the extended axes.
+
+    Parameters
+    ----------
+    az, rg : float64
+        Requested axes, m.
+    extent : dict
+        :func:`illuminated_extent`.
+    margin : int
+        Extra pixels on each side.
     """
     def one(x, ext):
         n = x.size
@@ -145,6 +154,32 @@ def pfa(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.n
     (:func:`cover_axes`) and cropped to ``az`` x ``rg``; a cover larger than
     :data:`MAX_COVER_PIXELS` is refused with the numbers. See :func:`pfa_on_grid` for the other
     parameters.
+
+    Parameters
+    ----------
+    ph : complex (P, M)
+    freq : float64 (M,)
+        Hz.
+    positions : float64 (P, 3)
+        m.
+    ref_range : float64 (P,)
+        m.
+    plane : ImagePlane
+    az, rg : float64
+        Pixel axes, m.
+    win_az, win_rg : callable
+        ``w(n)`` windows.
+    half : int
+        Interpolation kernel half-width.
+    real_aperture : float
+        m (bounds the illuminated extent).
+    cover : bool
+        Form on the illuminated extent and crop.
+
+    Returns
+    -------
+    (complex64 (az, rg), dict)
+        Normalised image and its support figures.
     """
     info = {"cover_azimuth": az.size, "cover_range": rg.size}
     if not cover:

@@ -22,7 +22,20 @@ WORKERS = FFT_WORKERS
 
 
 def deskew(signal: np.ndarray, adc_rate: float, chirp_rate: float) -> np.ndarray:
-    """RVP removal and deskew of dechirped samples (P, N), fast time centred at index N//2."""
+    """RVP removal and deskew of dechirped samples (P, N), fast time centred at index N//2.
+
+    Parameters
+    ----------
+    signal : complex (P, N)
+    adc_rate : float
+        Hz.
+    chirp_rate : float
+        Hz/s.
+
+    Returns
+    -------
+    complex64 (P, N)
+    """
     P, N = signal.shape
     n2 = sfft.next_fast_len(2 * N)
     buf = np.zeros((P, n2), np.complex64)
@@ -42,6 +55,16 @@ def analytic(signal: np.ndarray, sideband: str = "negative") -> np.ndarray:
     The beat frequency is -k * dtau: a scene beyond the reference range (dtau > 0) beats at
     negative frequencies (``sideband="negative"``), one nearer than the reference at positive.
     A real signal's spectrum is symmetric, so this choice comes from the geometry, not the data.
+
+    Parameters
+    ----------
+    signal : (P, N)
+        Real samples (complex dtype allowed).
+    sideband : {"negative", "positive"}
+
+    Returns
+    -------
+    complex64 (P, N)
     """
     spec = sfft.fft(signal.real, axis=1, workers=WORKERS)
     N = signal.shape[1]

@@ -139,14 +139,36 @@ def first_null_sin(wavelength: float, diameter: float) -> float:
 
 
 def two_way_3db_sin(wavelength: float, diameter: float) -> float:
-    """sin of the half-angle where the two-way power pattern is -3 dB."""
+    """sin of the half-angle where the two-way power pattern is -3 dB.
+
+    Parameters
+    ----------
+    wavelength : float
+        m.
+    diameter : float
+        Aperture, m.
+
+    Returns
+    -------
+    float
+    """
     # (2 J1(u)/u)^4 = 1/2 -> 2 J1(u)/u = 2**-0.25 ; u = 1.1264...
     u = 1.126396
     return u * wavelength / (math.pi * diameter)
 
 
 def footprint(scenario: Scenario) -> float:
-    """Null-to-null azimuth footprint of the beam at the scene centre, m."""
+    """Null-to-null azimuth footprint of the beam at the scene centre, m.
+
+    Parameters
+    ----------
+    scenario : Scenario
+
+    Returns
+    -------
+    float
+        m.
+    """
     p = scenario.platform
     return 2.0 * first_null_sin(scenario.waveform.wavelength, p.real_aperture) * _centre_range(scenario)
 
@@ -167,7 +189,17 @@ def _track_frame(scenario: Scenario):
 
 
 def scene_extent_x(scenario: Scenario) -> tuple[float, float]:
-    """Along-track (x) extent of the scene's scatterers, m."""
+    """Along-track (x) extent of the scene's scatterers, m.
+
+    Parameters
+    ----------
+    scenario : Scenario
+
+    Returns
+    -------
+    (float, float)
+        m.
+    """
     xs = [t.x for t in scenario.scene.points]
     ext = scenario.scene.extended
     if ext is not None:
@@ -252,7 +284,17 @@ def build_collection(scenario: Scenario) -> Collection:
 
 
 def image_plane(collection: Collection, grid: Grid) -> ImagePlane:
-    """The image plane of ``grid`` for ``collection`` (see :func:`plane_from`)."""
+    """The image plane of ``grid`` for ``collection`` (see :func:`plane_from`).
+
+    Parameters
+    ----------
+    collection : Collection
+    grid : Grid
+
+    Returns
+    -------
+    ImagePlane
+    """
     return plane_from(collection.track, collection.center_position, grid.plane)
 
 
@@ -262,6 +304,18 @@ def plane_from(track: np.ndarray, center_position: np.ndarray, plane: str = "sla
     The azimuth axis is the track direction; the range axis lies in the slant plane (through the
     track and the scene centre) or in the ground plane, pointing away from the platform.
     The origin is the scene centre; pixel coordinates are measured from it.
+
+    Parameters
+    ----------
+    track : float64 (3,)
+        Along-track direction.
+    center_position : float64 (3,)
+        Aperture centre relative to the scene centre, m.
+    plane : {"slant", "ground"}
+
+    Returns
+    -------
+    ImagePlane
     """
     a = np.asarray(track, dtype=np.float64)
     a = a / np.linalg.norm(a)
@@ -277,6 +331,22 @@ def grid_axes(grid: Grid) -> tuple[np.ndarray, np.ndarray]:
     """Azimuth and range coordinates (m) of the grid pixels, from the scene centre.
 
     Pixel i sits at ``center[0] + (i - nx//2) * dx`` (likewise range), so the grid centre is a pixel.
+
+    Parameters
+    ----------
+    grid : Grid
+
+    Returns
+    -------
+    (float64 (nx,), float64 (ny,))
+        m.
+
+    Examples
+    --------
+    >>> from salkit.params import Grid
+    >>> az, rg = grid_axes(Grid(nx=4, ny=3, dx=0.5, dy=1.0))
+    >>> az.tolist(), rg.tolist()
+    ([-1.0, -0.5, 0.0, 0.5], [-1.0, 0.0, 1.0])
     """
     az = grid.center[0] + (np.arange(grid.nx) - grid.nx // 2) * grid.dx
     rg = grid.center[1] + (np.arange(grid.ny) - grid.ny // 2) * grid.dy
@@ -284,7 +354,16 @@ def grid_axes(grid: Grid) -> tuple[np.ndarray, np.ndarray]:
 
 
 def scene_point_positions(scenario: Scenario) -> np.ndarray:
-    """Ground positions (N, 3) of the scenario's point targets, m."""
+    """Ground positions (N, 3) of the scenario's point targets, m.
+
+    Parameters
+    ----------
+    scenario : Scenario
+
+    Returns
+    -------
+    float64 (N, 3)
+    """
     pts = scenario.scene.points
     return np.array([[t.x, t.y, t.z] for t in pts], dtype=np.float64).reshape(-1, 3)
 
@@ -294,6 +373,16 @@ def truth_positions(scenario: Scenario, collection: Collection | None = None) ->
 
     Coordinates are measured from the scene centre in the image plane. A target appears at the plane point with the same
     closest-approach position along the track and the same distance from the (straight) track.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    collection : Collection, optional
+
+    Returns
+    -------
+    float64 (N, 2)
+        m.
     """
     col = collection if collection is not None else build_collection(scenario)
     grid = scenario.processing.grid
@@ -421,6 +510,15 @@ def equalisation_efficiency(scenario: Scenario, collection: Collection | None = 
     Spotlight keeps the scene centre on the beam axis (factor 1). Stripmap processing equalises
     the two-way pattern g over the 3 dB aperture, which amplifies noise at the aperture edges:
     the focused carrier-to-noise ratio is eta*N_s times this factor (about 0.79).
+
+    Parameters
+    ----------
+    scenario : Scenario
+    collection : Collection, optional
+
+    Returns
+    -------
+    float
     """
     p, w = scenario.platform, scenario.waveform
     if p.mode != "stripmap":

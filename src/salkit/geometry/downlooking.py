@@ -23,6 +23,21 @@ def wavelength_from_resolution(resolution: float, magnification: float, focal: f
     --------
     >>> round(wavelength_from_resolution(0.018, 1500, 0.06, 0.005) * 1e6, 6)
     2.0
+
+    Parameters
+    ----------
+    resolution : float
+        m.
+    magnification : float
+    focal : float
+        m.
+    stop : float
+        Field-stop width, m.
+
+    Returns
+    -------
+    float
+        m.
     """
     for name, v in (("resolution", resolution), ("magnification", magnification), ("focal", focal),
                     ("stop", stop)):
@@ -37,6 +52,20 @@ def lens_extent(stop: float, centre_offset: float, scan_travel: float) -> tuple[
 
     The lens centre sits at ``centre_offset + u`` with u in [-scan_travel/2, +scan_travel/2]
     (scan_travel = v_x T_f); the stop spans [-W/2, W/2].
+
+    Parameters
+    ----------
+    stop : float
+        Field-stop width W, m.
+    centre_offset : float
+        m.
+    scan_travel : float
+        m.
+
+    Returns
+    -------
+    (float, float)
+        m.
     """
     lo = -stop / 2 - centre_offset - scan_travel / 2
     hi = stop / 2 - centre_offset + scan_travel / 2
@@ -44,7 +73,20 @@ def lens_extent(stop: float, centre_offset: float, scan_travel: float) -> tuple[
 
 
 def paper_lens_width(stop: float, centre_offset: float) -> float:
-    """Lens width by the formulas at the end of seed 000 section 5 (scan (-W_x/2, W_x/2)), m."""
+    """Lens width by the formulas at the end of seed 000 section 5 (scan (-W_x/2, W_x/2)), m.
+
+    Parameters
+    ----------
+    stop : float
+        m.
+    centre_offset : float
+        m.
+
+    Returns
+    -------
+    float
+        m.
+    """
     if centre_offset > stop / 2:
         return 1.5 * stop + centre_offset
     return 2.0 * stop
@@ -116,6 +158,14 @@ def design(exp) -> DLDesign:
     >>> d = design(load_scenario("examples/downlooking_3d.yaml").experiment)  # doctest: +SKIP
     >>> round(d.fringe_period_x, 4)  # doctest: +SKIP
     0.18
+
+    Parameters
+    ----------
+    exp : DownlookingExperiment
+
+    Returns
+    -------
+    DLDesign
     """
     o, s, tr = exp.optics, exp.scan, exp.track
     M = tr.range / o.focal_transmit
@@ -244,6 +294,15 @@ def boresight_frame(look_angle_deg: float) -> tuple[np.ndarray, np.ndarray, np.n
     the origin. b points from the platform to the scene centre, tilted ``look_angle_deg`` from
     nadir towards +y; e_x (the beam's cross-track axis) is perpendicular to b in the y-z plane and
     e_y (along track) is the ground x axis.
+
+    Parameters
+    ----------
+    look_angle_deg : float
+        deg.
+
+    Returns
+    -------
+    (float64 (3,), float64 (3,), float64 (3,))
     """
     th = math.radians(look_angle_deg)
     b = np.array([0.0, math.sin(th), -math.cos(th)])
@@ -276,6 +335,21 @@ def beam_coordinates(points: np.ndarray, range_m: float, look_angle_deg: float) 
 
 
 def jones(hwp_angle_deg: float) -> tuple[float, float]:
-    """(c, s) = (cos 2 theta, sin 2 theta) of the receiving half-wave plate."""
+    """(c, s) = (cos 2 theta, sin 2 theta) of the receiving half-wave plate.
+
+    Parameters
+    ----------
+    hwp_angle_deg : float
+        deg.
+
+    Returns
+    -------
+    (float, float)
+
+    Examples
+    --------
+    >>> [round(v, 6) for v in jones(22.5)]
+    [0.707107, 0.707107]
+    """
     th = math.radians(hwp_angle_deg)
     return math.cos(2 * th), math.sin(2 * th)

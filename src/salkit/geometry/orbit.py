@@ -17,14 +17,38 @@ GM_EARTH = 3.986004418e14  #: m^3 / s^2
 
 
 def relative_speed(r1: float, r2: float) -> float:
-    """V = sqrt(GM) (1/sqrt(R1) - 1/sqrt(R2)), m/s: the difference of the two orbital speeds."""
+    """V = sqrt(GM) (1/sqrt(R1) - 1/sqrt(R2)), m/s: the difference of the two orbital speeds.
+
+    Parameters
+    ----------
+    r1, r2 : float
+        Orbit radii, m.
+
+    Returns
+    -------
+    float
+        m/s.
+    """
     if not (0 < r1 < r2):
         raise ScenarioError("orbit", (r1, r2), "needs 0 < R1 < R2 (the SAL inside the target's orbit)")
     return math.sqrt(GM_EARTH) * (1 / math.sqrt(r1) - 1 / math.sqrt(r2))
 
 
 def collection_span(closest: float, squint_max_deg: float) -> float:
-    """D = 2 L0 tan(theta_max), m, for squints from -theta_max to +theta_max."""
+    """D = 2 L0 tan(theta_max), m, for squints from -theta_max to +theta_max.
+
+    Parameters
+    ----------
+    closest : float
+        L0, m.
+    squint_max_deg : float
+        deg.
+
+    Returns
+    -------
+    float
+        m.
+    """
     if not (0 < squint_max_deg < 90):
         raise ScenarioError("squint_max_deg", squint_max_deg, "must be in (0, 90) degrees: the geometry "
                             "cannot reach 90 degrees of squint from a straight pass")
@@ -32,26 +56,86 @@ def collection_span(closest: float, squint_max_deg: float) -> float:
 
 
 def subaperture_length(wavelength: float, closest: float, resolution: float) -> float:
-    """L_sa = lambda L0 / (2 rho), m (zero squint)."""
+    """L_sa = lambda L0 / (2 rho), m (zero squint).
+
+    Parameters
+    ----------
+    wavelength : float
+        m.
+    closest : float
+        L0, m.
+    resolution : float
+        m.
+
+    Returns
+    -------
+    float
+        m.
+
+    Examples
+    --------
+    >>> round(subaperture_length(1.55e-6, 200e3, 0.05), 6)
+    3.1
+    """
     return wavelength * closest / (2 * resolution)
 
 
 def n_subimages(span: float, sub_length: float) -> int:
-    """P = floor(D / L_sa): sub-apertures in the collection."""
+    """P = floor(D / L_sa): sub-apertures in the collection.
+
+    Parameters
+    ----------
+    span : float
+        m.
+    sub_length : float
+        m.
+
+    Returns
+    -------
+    int
+    """
     if sub_length > span:
         raise ScenarioError("subaperture_length", sub_length, f"is longer than the collection span {span:.4g} m")
     return int(math.floor(span / sub_length))
 
 
 def resolution_vs_squint(wavelength: float, closest: float, sub_length: float, squint_deg):
-    """Seed 001 eq 12: along-track resolution rho_x = lambda L0 / (2 L_sa cos^3 theta), m."""
+    """Seed 001 eq 12: along-track resolution rho_x = lambda L0 / (2 L_sa cos^3 theta), m.
+
+    Parameters
+    ----------
+    wavelength : float
+        m.
+    closest : float
+        L0, m.
+    sub_length : float
+        m.
+    squint_deg : float or array
+        deg.
+
+    Returns
+    -------
+    float or ndarray
+        m.
+    """
     c = np.cos(np.radians(squint_deg))
     return wavelength * closest / (2 * sub_length * c ** 3)
 
 
 def max_squint_for(factor: float = 1.1) -> float:
     """Largest squint (deg) keeping the along-track resolution within ``factor`` of its best:
-    cos^3 theta = 1 / factor."""
+    cos^3 theta = 1 / factor.
+
+    Parameters
+    ----------
+    factor : float
+        > 1.
+
+    Returns
+    -------
+    float
+        deg.
+    """
     return math.degrees(math.acos(factor ** (-1 / 3)))
 
 
@@ -59,6 +143,18 @@ def relative_trajectory(r1: float, r2: float, t: np.ndarray) -> np.ndarray:
     """SAL position relative to the target (inertial frame), (len(t), 2) m, t = 0 at closest approach.
 
     x: along the target's velocity at t = 0; z: radial (the SAL is at z = -(R2 - R1) at t = 0).
+
+    Parameters
+    ----------
+    r1, r2 : float
+        Orbit radii, m.
+    t : float64 array
+        s.
+
+    Returns
+    -------
+    float64 (len(t), 2)
+        m.
     """
     w1, w2 = math.sqrt(GM_EARTH / r1 ** 3), math.sqrt(GM_EARTH / r2 ** 3)
     t = np.asarray(t, dtype=np.float64)
@@ -71,7 +167,22 @@ def straight_line_error(r1: float, r2: float, squint_max_deg: float, n: int = 20
     """How far the true relative motion departs from the straight line over the collection.
 
     Returns the largest range difference (m) over the whole collection and over one sub-aperture
-    centred at closest approach, for the seed's sub-aperture (passed in via ``sub_length``)."""
+    centred at closest approach, for the seed's sub-aperture (passed in via ``sub_length``).
+
+    Parameters
+    ----------
+    r1, r2 : float
+        m.
+    squint_max_deg : float
+        deg.
+    n : int
+        Time samples.
+
+    Returns
+    -------
+    dict
+        Times (s) and range differences (m).
+    """
     V = relative_speed(r1, r2)
     L0 = r2 - r1
     T = collection_span(L0, squint_max_deg) / (2 * V)

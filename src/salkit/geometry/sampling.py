@@ -9,13 +9,24 @@ import numpy as np
 
 from ..constants import SPEED_OF_LIGHT
 from ..errors import SamplingError, ScenarioError
+from ..tolerances import GRID_SPACING_OF_RESOLUTION
 from ..params.models import Scenario
 from .collection import (Collection, first_null_sin, build_collection, footprint,
                          scene_point_positions)
 
 
 def scene_probe_points(scenario: Scenario) -> np.ndarray:
-    """Points that bound the scene: point targets and the corners/edges of the extended scene."""
+    """Points that bound the scene: point targets and the corners/edges of the extended scene.
+
+    Parameters
+    ----------
+    scenario : Scenario
+
+    Returns
+    -------
+    float64 (N, 3)
+        m.
+    """
     pts = [scene_point_positions(scenario)]
     ext = scenario.scene.extended
     if ext is not None:
@@ -34,7 +45,18 @@ def _illuminated(col: Collection, pts: np.ndarray, sin_null: float) -> np.ndarra
 
 
 def delay_spread(scenario: Scenario, col: Collection | None = None) -> tuple[float, float]:
-    """Min and max differential delay 2(R - R_ref)/c over the illuminated scene, s."""
+    """Min and max differential delay 2(R - R_ref)/c over the illuminated scene, s.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    col : Collection
+
+    Returns
+    -------
+    (float, float)
+        s.
+    """
     col = col if col is not None else build_collection(scenario)
     pts = scene_probe_points(scenario)
     sin_null = first_null_sin(scenario.waveform.wavelength, scenario.platform.real_aperture)
@@ -47,7 +69,18 @@ def delay_spread(scenario: Scenario, col: Collection | None = None) -> tuple[flo
 
 
 def adc_gate(scenario: Scenario, col: Collection | None = None) -> float:
-    """ADC window, s: the receiver's, or the pulse width less the scene's delay spread."""
+    """ADC window, s: the receiver's, or the pulse width less the scene's delay spread.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    col : Collection
+
+    Returns
+    -------
+    float
+        s.
+    """
     g = scenario.receiver.gate
     if g is not None:
         return g
@@ -60,6 +93,15 @@ def n_fast_samples(scenario: Scenario, col: Collection | None = None) -> int:
 
     Samples sit at (i - N//2)/adc_rate, so N is the largest count with N//2 samples before the
     gate centre and N - N//2 - 1 after it, both inside +-gate/2.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    col : Collection
+
+    Returns
+    -------
+    int
     """
     gate = adc_gate(scenario, col)
     fs = scenario.receiver.adc_rate
@@ -70,11 +112,22 @@ def n_fast_samples(scenario: Scenario, col: Collection | None = None) -> int:
 
 
 def effective_bandwidth(scenario: Scenario, col: Collection | None = None) -> float:
-    """Processed bandwidth chirp_rate * (samples / adc_rate), Hz."""
+    """Processed bandwidth chirp_rate * (samples / adc_rate), Hz.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    col : Collection
+
+    Returns
+    -------
+    float
+        Hz.
+    """
     return scenario.waveform.rate * n_fast_samples(scenario, col) / scenario.receiver.adc_rate
 
 
-GRID_TOLERANCE = 1.01  # grid spacing may exceed the resolution by 1 %
+GRID_TOLERANCE = GRID_SPACING_OF_RESOLUTION  # grid spacing may exceed the resolution by 1 %
 
 
 @dataclass(frozen=True)
@@ -108,6 +161,16 @@ def check_sampling(scenario: Scenario, col: Collection | None = None) -> Samplin
     ------
     SamplingError
         With the numbers that failed.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    col : Collection
+
+    Returns
+    -------
+    SamplingReport
+        The rates and their margins.
     """
     from .collection import resolution_theory
 

@@ -8,12 +8,38 @@ import scipy.fft as sfft
 
 
 def wrap(phase):
-    """Wrap phase (rad) into [-pi, pi)."""
+    """Wrap phase (rad) into [-pi, pi).
+
+    Parameters
+    ----------
+    phase : float or array
+        rad.
+
+    Returns
+    -------
+    ndarray
+        rad.
+
+    Examples
+    --------
+    >>> wrap([3 * np.pi / 2, -np.pi]).round(4).tolist()
+    [-1.5708, -3.1416]
+    """
     return (np.asarray(phase) + np.pi) % (2 * np.pi) - np.pi
 
 
 def interferogram(first: np.ndarray, second: np.ndarray) -> np.ndarray:
-    """Complex interferogram ``first * conj(second)`` of two co-registered complex images."""
+    """Complex interferogram ``first * conj(second)`` of two co-registered complex images.
+
+    Parameters
+    ----------
+    first, second : complex ndarray
+        Same shape.
+
+    Returns
+    -------
+    complex128 ndarray
+    """
     a, b = np.asarray(first), np.asarray(second)
     if a.shape != b.shape:
         raise ValueError(f"images differ in shape: {a.shape} and {b.shape}")
@@ -88,6 +114,23 @@ def carrier_phase(x: np.ndarray, magnification: float, bias_common: float, perio
     The forward image carries exp(+j 2 pi xi S_a / v_x), the backward exp(-j ...), so the
     interferogram forward x conj(backward) has phase 4 pi xi S_a / v_x = 4 pi (x + M S_b) / Delta-X
     (``factor`` = 2); the sum image's fringe cos(2 pi xi S_a / v_x) has ``factor`` = 1.
+
+    Parameters
+    ----------
+    x : float array
+        Cross-track image positions, m.
+    magnification : float
+    bias_common : float
+        S_b, m.
+    period : float
+        Fringe period Delta-X, m.
+    factor : float
+        2 for the interferogram, 1 for the sum image.
+
+    Returns
+    -------
+    float64 ndarray
+        rad.
     """
     return factor * 2 * np.pi * (np.asarray(x, np.float64) + magnification * bias_common) / period
 
@@ -101,6 +144,17 @@ def fringe_period(ifg: np.ndarray, x: np.ndarray, factor: float = 2.0, threshold
     factor x 2 pi / s of the underlying cos fringe. On speckled scenes the speckle part of the
     interferogram carries no fringe (the fringe belongs to each scatterer's position, not to the
     pixel), which biases this estimate towards long periods: measure on a uniform scene.
+
+    Parameters
+    ----------
+    ifg : complex (ny, nx)
+        Interferogram.
+    x : float64 (nx,)
+        Cross-track positions, m.
+    factor : float
+        As :func:`carrier_phase`.
+    threshold : float
+        Fraction of the 90th percentile of |ifg| a pixel needs.
 
     Returns
     -------
@@ -129,6 +183,21 @@ def height_from_fringe_shift(phase_shift: np.ndarray, period: float, look_angle_
     Flat fringes of period Delta-X across the beam, projected at ``look_angle_deg`` from nadir onto a
     surface and viewed in ground coordinates, shift by Delta-phi = factor 2 pi h sin(theta) / Delta-X
     at height h, so h = Delta-phi Delta-X / (factor 2 pi sin(theta)).
+
+    Parameters
+    ----------
+    phase_shift : float array
+        rad.
+    period : float
+        m.
+    look_angle_deg : float
+        deg.
+    factor : float
+
+    Returns
+    -------
+    ndarray
+        m.
     """
     s = math.sin(math.radians(look_angle_deg))
     if s <= 0:

@@ -9,7 +9,19 @@ from scipy.ndimage import gaussian_filter
 
 def terrain_height(terrain, x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """Height (m) of a :class:`~salkit.params.downlooking.Terrain` at ground positions x (along track)
-    and y (across track), m. Seeded, so the same terrain comes back every time."""
+    and y (across track), m. Seeded, so the same terrain comes back every time.
+
+    Parameters
+    ----------
+    terrain : Terrain
+    x, y : float array
+        m.
+
+    Returns
+    -------
+    ndarray
+        m.
+    """
     rng = np.random.default_rng(terrain.seed)
     ex, ey = terrain.extent
     x = np.asarray(x, np.float64)
@@ -37,7 +49,20 @@ def terrain_height(terrain, x: np.ndarray, y: np.ndarray) -> np.ndarray:
 
 def terrain_scatterers(terrain, cell_area: float, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
     """Scatterers on the surface: ground positions (N, 3) m (x along, y across, z up) and complex
-    reflectivities, normalised so a resolution cell (ground area ``cell_area``) has mean power 1."""
+    reflectivities, normalised so a resolution cell (ground area ``cell_area``) has mean power 1.
+
+    Parameters
+    ----------
+    terrain : Terrain
+    cell_area : float
+        m^2.
+    rng : numpy.random.Generator
+
+    Returns
+    -------
+    (float64 (N, 3), complex128 (N,))
+        Positions, m, and reflectivities.
+    """
     ex, ey = terrain.extent
     d = terrain.spacing
     nx, ny = max(int(round(ex / d)), 1), max(int(round(ey / d)), 1)

@@ -294,7 +294,18 @@ def read_cphd(path: str | Path, channel: str | None = None) -> xr.Dataset:
 
 def failures_by_severity(con) -> dict:
     """Failed checks of a sarkit consistency checker, split into ``errors`` and ``warnings``
-    (lists of "check: requirement" lines)."""
+    (lists of "check: requirement" lines).
+
+    Parameters
+    ----------
+    con : sarkit consistency checker
+        After ``check()``.
+
+    Returns
+    -------
+    dict
+        ``errors``, ``warnings``: lists of str.
+    """
     out = {"errors": [], "warnings": []}
     for name, f in con.failures().items():
         for d in f.get("details", []):
@@ -306,6 +317,14 @@ def failures_by_severity(con) -> dict:
 
 def run_checker(checker_cls, path: str | Path, **kw) -> dict:
     """Run a sarkit consistency checker class (``CphdConsistency``, ``SicdConsistency``) on a file.
+
+    Parameters
+    ----------
+    checker_cls : type
+        ``sarkit.verification.CphdConsistency`` or ``SicdConsistency``.
+    path : path
+    **kw
+        Passed to the checker.
 
     Returns
     -------

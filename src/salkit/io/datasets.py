@@ -29,7 +29,15 @@ def _umask() -> int:
 
 
 def finish_atomic(tmp: str, path: Path) -> None:
-    """Give a temporary file ordinary permissions (0666 less the umask), flush it, rename it."""
+    """Give a temporary file ordinary permissions (0666 less the umask), flush it, rename it.
+
+    Parameters
+    ----------
+    tmp : Path
+        The complete temporary file.
+    path : Path
+        Its final name.
+    """
     os.chmod(tmp, 0o666 & ~_umask())
     with open(tmp, "rb") as fh:
         os.fsync(fh.fileno())
@@ -38,7 +46,16 @@ RAW_KINDS = ("raw", "phase_history")
 
 
 def clean_attrs(attrs: dict) -> dict:
-    """Attributes NetCDF can store: None dropped, booleans as 0/1, sequences as float64 arrays."""
+    """Attributes NetCDF can store: None dropped, booleans as 0/1, sequences as float64 arrays.
+
+    Parameters
+    ----------
+    attrs : dict
+
+    Returns
+    -------
+    dict
+    """
     out = {}
     for k, v in attrs.items():
         if v is None:
@@ -52,7 +69,12 @@ def clean_attrs(attrs: dict) -> dict:
 
 
 def salkit_version() -> str:
-    """The installed salkit version (for file attributes)."""
+    """The installed salkit version (for file attributes).
+
+    Returns
+    -------
+    str
+    """
     from .. import __version__
     return __version__
 
@@ -72,6 +94,11 @@ def make_raw_dataset(signal: np.ndarray, collection, fast_time: np.ndarray, scen
     signal_units : {"reflectivity", "shot_noise"}
     noise : bool
         Whether noise was added.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``salkit_kind = raw`` (docs/data-format.md).
     """
     from ..params.scenario import dump_scenario
 
@@ -135,6 +162,11 @@ def make_image_dataset(image: np.ndarray, az: np.ndarray, rg: np.ndarray, plane,
         Parameters to carry (algorithm, window, wavelength, resolutions, scenario...).
     truth : ndarray (T, 2), optional
         Expected azimuth/range positions of point targets, m.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``salkit_kind = image`` (docs/data-format.md).
     """
     data = {"image": (("azimuth", "range"), image.astype(np.complex64, copy=False),
                       {"long_name": "focused complex image", "units": "1"})}
@@ -157,7 +189,20 @@ def make_image_dataset(image: np.ndarray, az: np.ndarray, rg: np.ndarray, plane,
 @contextmanager
 def atomic_path(path: str | Path, suffix: str = ".tmp"):
     """Yield a temporary path beside ``path``; on success give it ordinary permissions, flush it
-    and rename it onto ``path``; on any failure remove it, so nothing is left half-written."""
+    and rename it onto ``path``; on any failure remove it, so nothing is left half-written.
+
+    Parameters
+    ----------
+    path : path
+        The final name.
+    suffix : str
+        Suffix of the temporary name.
+
+    Yields
+    ------
+    Path
+        The temporary path to write.
+    """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=suffix, dir=path.parent)
@@ -227,7 +272,17 @@ def _os_reason(e: BaseException) -> str:
 
 
 def write_text_atomic(path: str | Path, text: str) -> Path:
-    """Write a text file atomically (EnvironmentProblem when the disk or permissions stop it)."""
+    """Write a text file atomically (EnvironmentProblem when the disk or permissions stop it).
+
+    Parameters
+    ----------
+    path : path
+    text : str
+
+    Returns
+    -------
+    Path
+    """
     from ..errors import EnvironmentProblem
     try:
         with atomic_path(path) as tmp:
@@ -239,7 +294,18 @@ def write_text_atomic(path: str | Path, text: str) -> Path:
 
 
 def write_json_atomic(path: str | Path, obj: Any) -> Path:
-    """Write JSON atomically (NaN written as null)."""
+    """Write JSON atomically (NaN written as null).
+
+    Parameters
+    ----------
+    path : path
+    obj : object
+        JSON-serialisable (numpy numbers and arrays allowed).
+
+    Returns
+    -------
+    Path
+    """
     def clean(v):
         if isinstance(v, dict):
             return {k: clean(x) for k, x in v.items()}
@@ -255,7 +321,21 @@ def write_json_atomic(path: str | Path, obj: Any) -> Path:
 
 
 def open_dataset(path: str | Path) -> xr.Dataset:
-    """Open a salkit NetCDF file fully into memory, with clear errors for bad files."""
+    """Open a salkit NetCDF file fully into memory, with clear errors for bad files.
+
+    Parameters
+    ----------
+    path : path
+
+    Returns
+    -------
+    xarray.Dataset
+
+    Raises
+    ------
+    DataFileError
+        For a missing, unreadable or corrupt file (a corrupt variable is named).
+    """
     p = Path(path)
     if not p.is_file():
         raise DataFileError(f"{p}: file does not exist")
@@ -306,7 +386,20 @@ def _finite(ds: xr.Dataset, p, names):
 
 
 def read_raw(path: str | Path) -> xr.Dataset:
-    """Read and validate a raw phase-history file (kinds ``raw`` or ``phase_history``)."""
+    """Read and validate a raw phase-history file (kinds ``raw`` or ``phase_history``).
+
+    Parameters
+    ----------
+    path : path
+
+    Returns
+    -------
+    xarray.Dataset
+
+    Raises
+    ------
+    DataFileError
+    """
     ds = open_dataset(path)
     kind = ds.attrs.get("salkit_kind")
     if kind not in RAW_KINDS:
@@ -327,7 +420,20 @@ def read_raw(path: str | Path) -> xr.Dataset:
 
 
 def read_image(path: str | Path) -> xr.Dataset:
-    """Read and validate a focused-image file."""
+    """Read and validate a focused-image file.
+
+    Parameters
+    ----------
+    path : path
+
+    Returns
+    -------
+    xarray.Dataset
+
+    Raises
+    ------
+    DataFileError
+    """
     ds = open_dataset(path)
     if ds.attrs.get("salkit_kind") != "image" and "image" not in ds:
         raise DataFileError(f"{path}: not a salkit image file (no 'image' variable)")
@@ -339,7 +445,16 @@ def read_image(path: str | Path) -> xr.Dataset:
 
 
 def describe(path: str | Path) -> dict:
-    """Summary of a salkit file (kind, shapes, key attributes)."""
+    """Summary of a salkit file (kind, shapes, key attributes).
+
+    Parameters
+    ----------
+    path : path
+
+    Returns
+    -------
+    dict
+    """
     ds = open_dataset(path)
     info = {"file": str(path), "kind": ds.attrs.get("salkit_kind", "unknown"),
             "variables": {k: {"dims": list(v.dims), "dtype": str(v.dtype), "shape": list(v.shape)}

@@ -53,8 +53,8 @@ def regularise_axis(values, name: str = "frequency", tol: float = FREQUENCY_FIT_
     >>> import numpy as np
     >>> f = (9.3e9 + 1.47e6 * np.arange(512)).astype(np.float32)
     >>> axis, res, res_hz = regularise_axis(f)
-    >>> bool(res < 1e-3), float(axis[1] - axis[0]) == float(np.polyfit(np.arange(512), f.astype(float), 1)[0])
-    (True, True)
+    >>> bool(res < 1e-3), round(float(axis[1] - axis[0]) / 1.47e6, 6)  # float32 rounding gone, step kept
+    (True, 1.0)
     """
     raw = np.asarray(values)
     v = raw.astype(np.float64).ravel()

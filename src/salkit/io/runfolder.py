@@ -30,7 +30,18 @@ INTERRUPTED = {"signal": None}
 
 
 def sha256_file(path: Path, chunk: int = 1 << 20) -> str:
-    """SHA-256 of a file's bytes (hex)."""
+    """SHA-256 of a file's bytes (hex).
+
+    Parameters
+    ----------
+    path : path
+    chunk : int
+        Bytes read at a time.
+
+    Returns
+    -------
+    str
+    """
     h = hashlib.sha256()
     with open(path, "rb") as fh:
         while True:

@@ -10,7 +10,21 @@ from .datasets import write_dataset
 
 
 def screens_dataset(phi: np.ndarray, dx: float, **attrs) -> xr.Dataset:
-    """Labelled dataset of screens (K, n, n) with spacing ``dx`` (m) and generation parameters."""
+    """Labelled dataset of screens (K, n, n) with spacing ``dx`` (m) and generation parameters.
+
+    Parameters
+    ----------
+    phi : float (K, n, n)
+        rad.
+    dx : float
+        m.
+    **attrs
+        Generation parameters.
+
+    Returns
+    -------
+    xarray.Dataset
+    """
     from .. import __version__
     K, ny, nx = phi.shape
     a = {k: v for k, v in attrs.items() if v is not None}
@@ -23,7 +37,24 @@ def screens_dataset(phi: np.ndarray, dx: float, **attrs) -> xr.Dataset:
 
 
 def write_screens(phi: np.ndarray, dx: float, path: str | Path, **attrs) -> tuple[Path, Path]:
-    """Write screens to NetCDF and the first screen to a PNG beside it (both atomically)."""
+    """Write screens to NetCDF and the first screen to a PNG beside it (both atomically).
+
+    Parameters
+    ----------
+    phi : float (K, n, n)
+        rad.
+    dx : float
+        m.
+    path : path
+        NetCDF file.
+    **attrs
+        Generation parameters.
+
+    Returns
+    -------
+    (Path, Path)
+        The NetCDF file and the PNG.
+    """
     from ..plot import screen_image
     path = Path(path)
     write_dataset(screens_dataset(phi, dx, **attrs), path)

@@ -21,6 +21,15 @@ def image_phase_model(image: xr.Dataset):
     ``aperture_centre`` (bp, pfa): 4 pi f_c (|X - p_c| - |p_c|)/c, p_c the aperture centre.
     ``track`` (omega-k): 4 pi f_c (d(X) - R_s)/c, d the distance from the straight track.
     Returns None when the attributes are missing.
+
+    Parameters
+    ----------
+    image : xarray.Dataset
+
+    Returns
+    -------
+    callable or None
+        ``fn(az, rg) -> rad``.
     """
     at = image.attrs
     need = ("phase_reference", "aperture_center", "azimuth_axis", "range_axis", "carrier_frequency")

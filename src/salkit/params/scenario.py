@@ -64,6 +64,25 @@ def apply_overrides(data: Mapping[str, Any], overrides: Iterable[str]) -> dict:
     """Apply ``key.path=value`` overrides (values parsed as YAML) to a scenario mapping.
 
     List elements are addressed by index: ``scene.points.0.x=0.3``.
+
+    Parameters
+    ----------
+    data : mapping
+    overrides : iterable of str
+
+    Returns
+    -------
+    dict
+
+    Raises
+    ------
+    ScenarioError
+        For a malformed override or a path that does not exist.
+
+    Examples
+    --------
+    >>> apply_overrides({"a": {"b": 1}}, ["a.b=2", "a.c=[1, 2]"])
+    {'a': {'b': 2, 'c': [1, 2]}}
     """
     out = copy.deepcopy(dict(data))
     for item in overrides:
@@ -104,7 +123,21 @@ def apply_overrides(data: Mapping[str, Any], overrides: Iterable[str]) -> dict:
 
 
 def read_yaml(path: str | Path) -> dict:
-    """Read a YAML mapping from ``path`` with clear errors."""
+    """Read a YAML mapping from ``path`` with clear errors.
+
+    Parameters
+    ----------
+    path : path
+
+    Returns
+    -------
+    dict
+
+    Raises
+    ------
+    ScenarioError
+        For a missing file, a folder, non-UTF-8 text, invalid YAML or a non-mapping.
+    """
     p = Path(path)
     if p.is_dir():
         raise ScenarioError("scenario", str(p), "is a folder, not a YAML file")

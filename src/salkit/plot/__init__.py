@@ -22,7 +22,24 @@ def _save(fig, path: str | Path) -> Path:
 
 
 def image_db(image_ds, path, title: str = "", dynamic_range: float = 40.0, truth=None) -> Path:
-    """The image magnitude in dB (peak 0 dB), axes in metres, expected target positions marked."""
+    """The image magnitude in dB (peak 0 dB), axes in metres, expected target positions marked.
+
+    Parameters
+    ----------
+    image_ds : xarray.Dataset
+        salkit image.
+    path : path
+        PNG to write.
+    title : str
+    dynamic_range : float
+        dB shown below the peak.
+    truth : float (T, 2), optional
+        Expected (azimuth, range) positions, m.
+
+    Returns
+    -------
+    Path
+    """
     img = np.abs(image_ds["image"].values)
     az = image_ds["azimuth"].values
     rg = image_ds["range"].values
@@ -46,6 +63,17 @@ def cuts(curves: dict, metrics: dict, path) -> Path:
     """Range and azimuth cuts through the brightest target against the theoretical response.
 
     ``curves`` is :func:`salkit.metrics.pointtarget.cut_curves`: per axis (x m, measured dB, theory dB).
+
+    Parameters
+    ----------
+    curves : dict
+    metrics : dict
+        Measured and theoretical IRW (m), PSLR (dB), for the legend.
+    path : path
+
+    Returns
+    -------
+    Path
     """
     fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
     for ax, name in ((axes[0], "range"), (axes[1], "azimuth")):
@@ -64,7 +92,17 @@ def cuts(curves: dict, metrics: dict, path) -> Path:
 
 
 def raw_phase_history(raw_ds, path) -> Path:
-    """Magnitude of the raw dechirped samples (slow time vs fast time)."""
+    """Magnitude of the raw dechirped samples (slow time vs fast time).
+
+    Parameters
+    ----------
+    raw_ds : xarray.Dataset
+    path : path
+
+    Returns
+    -------
+    Path
+    """
     s = np.abs(raw_ds["signal"].values)
     t = raw_ds["fast_time"].values * 1e6
     st = raw_ds["slow_time"].values
@@ -79,7 +117,21 @@ def raw_phase_history(raw_ds, path) -> Path:
 
 
 def screen_image(phi: np.ndarray, dx: float, path, title: str = "") -> Path:
-    """A phase screen (rad) with axes in metres."""
+    """A phase screen (rad) with axes in metres.
+
+    Parameters
+    ----------
+    phi : float (n, n)
+        rad.
+    dx : float
+        m.
+    path : path
+    title : str
+
+    Returns
+    -------
+    Path
+    """
     n = phi.shape[0]
     fig, ax = plt.subplots(figsize=(5.6, 4.8))
     im = ax.imshow(phi, origin="lower", extent=[0, phi.shape[1] * dx, 0, n * dx], cmap="viridis")
@@ -91,7 +143,18 @@ def screen_image(phi: np.ndarray, dx: float, path, title: str = "") -> Path:
 
 
 def autofocus_history(res, path, title: str = "") -> Path:
-    """Per-iteration entropy and correction RMS, and the total phase correction (rad)."""
+    """Per-iteration entropy and correction RMS, and the total phase correction (rad).
+
+    Parameters
+    ----------
+    res : AutofocusResult
+    path : path
+    title : str
+
+    Returns
+    -------
+    Path
+    """
     import scipy.fft as sfft
     it = [h["iteration"] for h in res.history]
     fig, axes = plt.subplots(1, 2, figsize=(11, 3.6))
@@ -114,7 +177,18 @@ def autofocus_history(res, path, title: str = "") -> Path:
 
 
 def screens_figure(path, out) -> Path:
-    """Seed 004 figs 1-2: one layer's screen and the sum of all layers (rad), axes in metres."""
+    """Seed 004 figs 1-2: one layer's screen and the sum of all layers (rad), axes in metres.
+
+    Parameters
+    ----------
+    path : TurbulentPath
+    out : path
+        PNG to write.
+
+    Returns
+    -------
+    Path
+    """
     n = path.screens.shape[1]
     ext = [0, n * path.dx, 0, n * path.dx]
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.4))
@@ -129,7 +203,23 @@ def screens_figure(path, out) -> Path:
 
 
 def structure_function_figure(r, d, err, theory, out, title="") -> Path:
-    """Seed 004 fig 3: ensemble structure function against theory, and their ratio."""
+    """Seed 004 fig 3: ensemble structure function against theory, and their ratio.
+
+    Parameters
+    ----------
+    r : float array
+        Separations, m.
+    d, err : float arrays
+        Ensemble estimate and its standard error, rad^2.
+    theory : float array
+        rad^2.
+    out : path
+    title : str
+
+    Returns
+    -------
+    Path
+    """
     fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
     axes[0].loglog(r, theory, "k-", label="theory 6.88 (r/r0)^(5/3)")
     axes[0].errorbar(r, d, yerr=err, fmt="o", ms=3, label="ensemble")
@@ -147,7 +237,18 @@ def structure_function_figure(r, d, err, theory, out, title="") -> Path:
 
 
 def ipr_classes_figure(cuts, out) -> Path:
-    """Seed 004 fig 4: azimuth IPR of the point target per class, before and after PGA."""
+    """Seed 004 fig 4: azimuth IPR of the point target per class, before and after PGA.
+
+    Parameters
+    ----------
+    cuts : dict
+        Class -> (measure details before PGA, after PGA).
+    out : path
+
+    Returns
+    -------
+    Path
+    """
     fig, axes = plt.subplots(1, 2, figsize=(11, 3.8), sharey=True)
     for ax, idx, t in ((axes[0], 0, "focused (PFA)"), (axes[1], 1, "after PGA")):
         for name, pair in cuts.items():
@@ -171,7 +272,18 @@ def _db(img, ref):
 
 
 def image_grid_figure(images, out) -> Path:
-    """Seed 004 fig 5: the I target under each class, before (top) and after PGA (bottom)."""
+    """Seed 004 fig 5: the I target under each class, before (top) and after PGA (bottom).
+
+    Parameters
+    ----------
+    images : dict
+        Class -> (image before PGA, after PGA), xarray.Dataset.
+    out : path
+
+    Returns
+    -------
+    Path
+    """
     names = list(images)
     fig, axes = plt.subplots(2, len(names), figsize=(3.2 * len(names), 6.2), squeeze=False)
     for j, name in enumerate(names):
@@ -190,7 +302,20 @@ def image_grid_figure(images, out) -> Path:
 
 
 def pga_steps_figure(before, steps, out, title="") -> Path:
-    """Seed 004 figs 6-8: the I target after PGA capped at 5, 10 and 20 iterations."""
+    """Seed 004 figs 6-8: the I target after PGA capped at 5, 10 and 20 iterations.
+
+    Parameters
+    ----------
+    before : xarray.Dataset
+    steps : dict
+        Label -> image.
+    out : path
+    title : str
+
+    Returns
+    -------
+    Path
+    """
     items = [("focused", before)] + list(steps.items())
     fig, axes = plt.subplots(1, len(items), figsize=(3.2 * len(items), 3.4))
     for ax, (t, ds) in zip(axes, items):
@@ -206,7 +331,21 @@ def pga_steps_figure(before, steps, out, title="") -> Path:
 
 
 def sweep_heatmaps(rows, cols, grids, irws, out, labels) -> Path:
-    """Compression ratio (colour, log) and IRW/ideal per method over a two-parameter sweep."""
+    """Compression ratio (colour, log) and IRW/ideal per method over a two-parameter sweep.
+
+    Parameters
+    ----------
+    rows, cols : sequence of float
+    grids, irws : dict
+        Method -> (rows, cols) compression ratio and IRW (m).
+    out : path
+    labels : (str, str)
+        Row and column axis labels.
+
+    Returns
+    -------
+    Path
+    """
     meths = [m for m in grids if m != "none"]
     fig, axes = plt.subplots(2, len(meths), figsize=(3.4 * len(meths), 6.4), squeeze=False)
     for j, m in enumerate(meths):
@@ -224,7 +363,18 @@ def sweep_heatmaps(rows, cols, grids, irws, out, labels) -> Path:
 
 
 def range_profiles_figure(ds, out) -> Path:
-    """Range profiles of every point for every method (dB, peak of the ideal = 0)."""
+    """Range profiles of every point for every method (dB, peak of the ideal = 0).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Range profiles (point, range), m.
+    out : path
+
+    Returns
+    -------
+    Path
+    """
     pts = list(ds["point"].values)
     fig, axes = plt.subplots(1, len(pts), figsize=(4.2 * len(pts), 3.6), squeeze=False)
     r = ds["range"].values
@@ -244,7 +394,25 @@ def range_profiles_figure(ds, out) -> Path:
 
 
 def spaceborne_figures(truth, fig7, single, stack, counts, curve, snr1_theory, az, rg, out) -> None:
-    """Seed 001 figs 7 and 8 and the stack SNR against sqrt(P)."""
+    """Seed 001 figs 7 and 8 and the stack SNR against sqrt(P).
+
+    Parameters
+    ----------
+    truth : float (nx, ny)
+    fig7 : dict
+        Squint (deg) -> (uncorrected, corrected) magnitude.
+    single, stack : float (nx, ny)
+        Magnitudes.
+    counts : list of int
+    curve : list of float
+        Stack SNR for each count.
+    snr1_theory : float
+        Single sub-image SNR of eq 15.
+    az, rg : float64
+        m.
+    out : path
+        Folder.
+    """
     out = Path(out)
     ext = [az[0], az[-1], rg[0], rg[-1]]
     qs = list(fig7)
@@ -282,7 +450,22 @@ def spaceborne_figures(truth, fig7, single, stack, counts, curve, snr1_theory, a
 
 def resolution_squint_figure(squints, measured, q, theory, qm, path) -> Path:
     """Seed 001 fig 5: along-track resolution against squint, eq 12 (``theory`` at squints ``q``,
-    deg, m) and measured points; ``qm`` the squint within which it stays within 1.1x."""
+    deg, m) and measured points; ``qm`` the squint within which it stays within 1.1x.
+
+    Parameters
+    ----------
+    squints, measured : sequence of float
+        deg, m.
+    q, theory : float arrays
+        deg, m.
+    qm : float
+        deg.
+    path : path
+
+    Returns
+    -------
+    Path
+    """
     fig, ax = plt.subplots(figsize=(5.8, 3.8))
     ax.plot(q, 100 * np.asarray(theory), "k-", label="eq 12")
     ax.plot(squints, 100 * np.asarray(measured), "o", label="measured (IRW / 0.886)")

@@ -11,7 +11,21 @@ def _ext(imgs):
 
 
 def raw_current(current, Y, t, path):
-    """The balanced-detector current of the first scans: a forward/backward pair and the history."""
+    """The balanced-detector current of the first scans: a forward/backward pair and the history.
+
+    Parameters
+    ----------
+    current : float (n_scans, samples)
+    Y : float64 (n_scans,)
+        m.
+    t : float64 (samples,)
+        s.
+    path : path
+
+    Returns
+    -------
+    Path
+    """
     fig, ax = plt.subplots(1, 2, figsize=(11, 3.6))
     mid = current.shape[0] // 2 & ~1
     ax[0].plot(t * 1e3, current[mid], lw=0.6, label=f"forward scan {mid}")
@@ -29,7 +43,19 @@ def raw_current(current, Y, t, path):
 
 
 def scene_figure(imgs, paper, design, path):
-    """Extended scene: plain image, eq-19 fringes, interferogram phase, the paper-order image."""
+    """Extended scene: plain image, eq-19 fringes, interferogram phase, the paper-order image.
+
+    Parameters
+    ----------
+    imgs, paper : DLImages
+        Focus-then-add and paper-order images.
+    design : DLDesign
+    path : path
+
+    Returns
+    -------
+    Path
+    """
     fig, ax = plt.subplots(1, 4, figsize=(17, 4.4))
     ext = _ext(imgs)
     ref = np.abs(imgs.forward).max()
@@ -50,7 +76,21 @@ def scene_figure(imgs, paper, design, path):
 
 
 def terrain_figures(ter, design, exp, out):
-    """Terrain height, its image, interferogram, unwrapped residual, contour map, ground fringe."""
+    """Terrain height, its image, interferogram, unwrapped residual, contour map, ground fringe.
+
+    Parameters
+    ----------
+    ter : dict
+        :func:`salkit.systems.downlooking.terrain_run`.
+    design : DLDesign
+    exp : DownlookingExperiment
+    out : path
+        Folder.
+
+    Returns
+    -------
+    Path
+    """
     imgs = ter["images"]
     ext = _ext(imgs)
     gext = [ter["ground_x"][0], ter["ground_x"][-1], ter["ground_y"][0], ter["ground_y"][-1]]
@@ -106,7 +146,17 @@ def terrain_figures(ter, design, exp, out):
 
 
 def disturbance_figure(images, path):
-    """Point-target images (dB) under each disturbance, DL-SAL and side-looking SAL."""
+    """Point-target images (dB) under each disturbance, DL-SAL and side-looking SAL.
+
+    Parameters
+    ----------
+    images : dict
+    path : path
+
+    Returns
+    -------
+    Path
+    """
     n = len(images)
     fig, ax = plt.subplots(1, n, figsize=(3.6 * n, 4.2))
     ax = np.atleast_1d(ax)

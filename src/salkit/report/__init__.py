@@ -11,14 +11,21 @@ from pathlib import Path
 
 from jinja2 import Environment, PackageLoader, select_autoescape
 
+from .. import tolerances as tol
 from ..io.datasets import write_dataset, write_json_atomic, write_text_atomic
+from ..papers import published
 from ..systems import run_workflow
 from ..systems.result import Progress, RunResult
 
 
 @lru_cache(maxsize=1)
 def environment() -> Environment:
-    """The Jinja environment of the report templates (one for every report)."""
+    """The Jinja environment of the report templates (one for every report).
+
+    Returns
+    -------
+    jinja2.Environment
+    """
     return Environment(loader=PackageLoader("salkit", "report/templates"), autoescape=select_autoescape(["html"]))
 
 
@@ -93,7 +100,16 @@ def run_scenario(scenario, out_dir: str | Path, progress: Progress = None) -> di
 
 
 def files_table(out_dir: str | Path) -> list[str]:
-    """Names of the files of a run folder so far, and the report itself."""
+    """Names of the files of a run folder so far, and the report itself.
+
+    Parameters
+    ----------
+    out_dir : path
+
+    Returns
+    -------
+    list of str
+    """
     out = Path(out_dir)
     return sorted(p.name for p in out.iterdir() if not p.name.startswith(".")) + ["report.html"]
 
@@ -108,86 +124,106 @@ def _fmt(v, unit_scale=1.0, digits=4):
 
 
 def comparison_rows(m: dict) -> list[dict]:
-    """Measured-vs-theory rows with the acceptance tolerances of the test suite."""
+    """Measured-vs-theory rows with the acceptance tolerances of the test suite.
+
+    Parameters
+    ----------
+    m : dict
+        Metrics.
+
+    Returns
+    -------
+    list of dict
+        ``name``, ``measured``, ``theory``, ``delta``, ``ok``, ``tol`` (:mod:`salkit.tolerances`).
+    """
     rows = []
     for ax in ("range", "azimuth"):
         irw, th = m.get(f"irw_{ax}_m"), m.get(f"irw_{ax}_theory_m")
         if irw is not None and th:
             r = irw / th
             rows.append(dict(name=f"IRW {ax} (cm)", measured=_fmt(irw, 100), theory=_fmt(th, 100),
-                             delta=f"{r:.4f}", ok=abs(r - 1) <= 0.03, tol="ratio 1 +- 0.03"))
+                             delta=f"{r:.4f}", ok=abs(r - 1) <= tol.IRW_RATIO, tol=f"ratio 1 +- {tol.IRW_RATIO:g}"))
         p, pt = m.get(f"pslr_{ax}_db"), m.get(f"pslr_{ax}_theory_db")
         if p is not None and pt is not None:
             rows.append(dict(name=f"PSLR {ax} (dB)", measured=_fmt(p), theory=_fmt(pt),
-                             delta=f"{p - pt:+.3f}", ok=abs(p - pt) <= 0.3, tol="+- 0.3 dB"))
+                             delta=f"{p - pt:+.3f}", ok=abs(p - pt) <= tol.PSLR_DB, tol=f"+- {tol.PSLR_DB:g} dB"))
         i, it = m.get(f"islr_{ax}_db"), m.get(f"islr_{ax}_theory_db")
         if i is not None and it is not None:
             rows.append(dict(name=f"ISLR {ax} (dB)", measured=_fmt(i), theory=_fmt(it),
-                             delta=f"{i - it:+.3f}", ok=abs(i - it) <= 1.0, tol="+- 1 dB"))
+                             delta=f"{i - it:+.3f}", ok=abs(i - it) <= tol.ISLR_DB, tol=f"+- {tol.ISLR_DB:g} dB"))
         off = m.get(f"peak_offset_{ax}_m")
         res = m.get(f"resolution_{ax}_theory_m")
         if off is not None and res:
             rows.append(dict(name=f"peak offset {ax} (cells)", measured=_fmt(off / res), theory="0",
-                             delta=f"{off / res:+.4f}", ok=abs(off / res) <= 0.1, tol="+- 0.1 cell"))
+                             delta=f"{off / res:+.4f}", ok=abs(off / res) <= tol.PEAK_OFFSET_CELLS,
+                             tol=f"+- {tol.PEAK_OFFSET_CELLS:g} cell"))
     pe = m.get("peak_phase_error_rad")
     if pe is not None:
         rows.append(dict(name="peak phase error (rad)", measured=_fmt(pe), theory="0", delta=f"{pe:+.4f}",
-                         ok=abs(pe) <= 0.05, tol="+- 0.05 rad"))
+                         ok=abs(pe) <= tol.PEAK_PHASE_RAD, tol=f"+- {tol.PEAK_PHASE_RAD:g} rad"))
     if "cnr_peak" in m:
         r = m["cnr_peak"] / m["cnr_peak_theory"]
         rows.append(dict(name="brightest target CNR", measured=_fmt(m["cnr_peak"]), theory=_fmt(m["cnr_peak_theory"]),
-                         delta=f"{r:.3f}", ok=abs(r - 1) <= 0.15, tol="ratio 1 +- 0.15 (one realisation)"))
+                         delta=f"{r:.3f}", ok=abs(r - 1) <= tol.CNR_RATIO,
+                         tol=f"ratio 1 +- {tol.CNR_RATIO:g} (one realisation)"))
     if "image_snr" in m:
         r = m["image_snr"] / m["image_snr_theory"]
         rows.append(dict(name="speckle image SNR", measured=_fmt(m["image_snr"]),
-                         theory=_fmt(m["image_snr_theory"]), delta=f"{r:.3f}", ok=abs(r - 1) <= 0.1,
-                         tol="ratio 1 +- 0.1"))
+                         theory=_fmt(m["image_snr_theory"]), delta=f"{r:.3f}", ok=abs(r - 1) <= tol.SNR_RATIO,
+                         tol=f"ratio 1 +- {tol.SNR_RATIO:g}"))
     return rows
-
-
-# The paper's Table 3 (compression ratio at point A; rows R2, columns R1), quoted for comparison.
-PAPER_TABLE3_R1 = (10, 20, 30, 40, 50, 60, 70, 100, 200, 300)
-PAPER_TABLE3 = {
-    10: (0.2034, 0.2131, 0.2281, 28.1, 23.0909, 15.875, 28.111, 7.0728, 25.4, 23),
-    20: (0.3333, 0.75, 4.6538, 4.3214, 3.7813, 3.9032, 4, 4.2857, 4.1724, 5.5),
-    30: (0.6875, 0.75, 8.556, 8.5556, 8.6667, 8.6667, 8.5556, 6.4147, 8.667, 8.556),
-    40: (1.1111, 6.3333, 0.9167, 4.6667, 3.7333, 3.7333, 5.0909, 5.6, 6.2222, 6.2222),
-    50: (1, 0.9091, 3.9091, 4.7778, 3.667, 3.6667, 4.4, 4.4, 3.667, 3.667),
-    70: (0.5556, 3.222, 1.381, 3.3333, 3.3333, 1.1538, 1.1538, 1.2, 1.7059, 1.7059),
-    100: (1.7273, 1.4615, 1.5385, 1.4615, 1.4615, 1.4615, 1.4615, 1.4615, 1.4615, 1.4615),
-    150: (1.2222, 1.2, 0.9167, 1.2222, 1.2222, 1.2222, 1.2222, 1.3333, 1.3333, 1.3333),
-    200: (1, 0.9, 1, 0.75, 0.75, 0.75, 0.75, 0.8182, 0.8182, 0.8182),
-    300: (1, 1, 0.8182, 0.8182, 0.8182, 0.8182, 0.8182, 0.8182, 0.8182, 0.8182),
-}
 
 
 def table3_cells(sweep) -> list[dict]:
     """Cell-by-cell comparison on Table 3: the paper's published ratio (fails below 1.5) beside
     salkit's reproduction of the paper's method and salkit's corrections (succeed when the range
-    IRW is within 5 % of the ideal chirp's)."""
+    IRW is within 5 % of the ideal chirp's).
+
+    Parameters
+    ----------
+    sweep : tuple
+        (rows R2, columns R1, ratio grids, IRW grids) of :func:`salkit.systems.chirp.sweep`.
+
+    Returns
+    -------
+    list of dict
+    """
     rows_, cols_, grids, irws = sweep
+    table3 = published()["seed002"]["table3"]
     out = []
     for i, r2 in enumerate(rows_):
         for j, r1 in enumerate(cols_):
-            pub = PAPER_TABLE3.get(int(r2), None)
-            pub_v = pub[PAPER_TABLE3_R1.index(int(r1))] if pub is not None and int(r1) in PAPER_TABLE3_R1 else None
+            pub = table3["rows"].get(int(r2), None)
+            pub_v = pub[table3["r1"].index(int(r1))] if pub is not None and int(r1) in table3["r1"] else None
             ideal = irws["ideal"][i, j]
             cell = {"r2": r2, "r1": r1, "published": pub_v,
-                    "published_ok": None if pub_v is None else pub_v >= 1.5}
+                    "published_ok": None if pub_v is None else pub_v >= table3["failure_below"]}
             for m in ("paper", "deskew", "resample"):
                 ratio = irws[m][i, j] / ideal
                 cell[f"{m}_ratio"] = float(grids[m][i, j])
                 cell[f"{m}_irw_over_ideal"] = float(ratio)
-                cell[f"{m}_ok"] = bool(abs(ratio - 1) <= 0.05)
+                cell[f"{m}_ok"] = bool(abs(ratio - 1) <= tol.CHIRP_IRW_OF_IDEAL)
             out.append(cell)
     return out
 
 
-PAPER_TABLE1 = {"A": (4.2846, 1.1685, 3.667), "B": (3.1, 1.558, 1.9375), "C": (3.1, 1.558, 1.9375)}
 
 
 def downlooking_context(name, description, metrics, design, dist_rows, scenario_text) -> dict:
-    """Template variables of the seed 000 report."""
+    """Template variables of the seed 000 report.
+
+    Parameters
+    ----------
+    name, description : str
+    metrics : dict
+    design : DLDesign
+    dist_rows : dict
+    scenario_text : str
+
+    Returns
+    -------
+    dict
+    """
     point_rows = [(k, t) for k, t in (
         ("irw_range_m", "irw_range_theory_m"), ("irw_azimuth_m", "irw_azimuth_theory_m"),
         ("forward_irw_range_m", "irw_range_theory_m"), ("forward_irw_azimuth_m", "irw_azimuth_theory_m"),

@@ -13,7 +13,13 @@ from . import comparison_rows, files_table, render
 
 def write_airborne(result: RunResult, out: Path) -> None:
     """Figures (image, cuts, autofocus history, raw data) and report.html of a plain run or of an
-    outside file focused."""
+    outside file focused.
+
+    Parameters
+    ----------
+    result : RunResult
+    out : Path
+    """
     image = result.datasets["image.nc"]
     fig, metrics = result.figures, result.metrics
     details = fig["details"]
@@ -45,7 +51,13 @@ WRITERS = {"airborne": write_airborne}
 
 
 def write_turbulence(result: RunResult, out: Path) -> None:
-    """Figures 1-8 of seed 004 and its report.html."""
+    """Figures 1-8 of seed 004 and its report.html.
+
+    Parameters
+    ----------
+    result : RunResult
+    out : Path
+    """
     f = result.figures
     plot.screens_figure(f["path"], out / "screens.png")
     sf = f["structure_function"]
@@ -62,15 +74,22 @@ WRITERS["turbulence_pga"] = write_turbulence
 
 
 def write_chirp(result: RunResult, out: Path) -> None:
-    """Heat maps of Tables 2 and 3, the range profiles, and report.html of seed 002."""
-    from . import PAPER_TABLE1, table3_cells
+    """Heat maps of Tables 2 and 3, the range profiles, and report.html of seed 002.
+
+    Parameters
+    ----------
+    result : RunResult
+    out : Path
+    """
+    from ..papers import published
+    from . import table3_cells
     sweeps = result.figures["sweeps"]
     for label, (rows_, cols_, grids, irws) in sweeps.items():
         plot.sweep_heatmaps(rows_, cols_, grids, irws, out / f"{label}.png",
                             ("d_rlo (m)", "d_r (m)") if label == "table2" else ("R2", "R1"))
     plot.range_profiles_figure(result.datasets["profiles.nc"], out / "profiles.png")
     render(out, "chirp.html", name=result.name, description=result.description, table1=result.figures["table1"],
-           paper=PAPER_TABLE1, metrics=result.metrics, cells=table3_cells(sweeps["table3"]),
+           paper=published()["seed002"]["table1"], metrics=result.metrics, cells=table3_cells(sweeps["table3"]),
            scenario=result.scenario_text)
 
 
@@ -78,7 +97,13 @@ WRITERS["nonlinear_chirp"] = write_chirp
 
 
 def write_spaceborne(result: RunResult, out: Path) -> None:
-    """Figures 5-10 of seed 001 and its report.html."""
+    """Figures 5-10 of seed 001 and its report.html.
+
+    Parameters
+    ----------
+    result : RunResult
+    out : Path
+    """
     from ..geometry.orbit import max_squint_for, resolution_vs_squint
     f = result.figures
     q = np.linspace(-20, 20, 201)
@@ -94,7 +119,14 @@ WRITERS["spaceborne_geo"] = write_spaceborne
 
 
 def write_downlooking(result: RunResult, out: Path) -> None:
-    """Figures and report.html of seeds 000/003."""
+    """Figures and report.html of seeds 000/003.
+
+    Parameters
+    ----------
+    result : RunResult
+    out : Path
+    """
+    from ..papers import published
     from ..plot import downlooking as dlplot
     from . import downlooking_context
     f, m = result.figures, result.metrics
@@ -110,8 +142,9 @@ def write_downlooking(result: RunResult, out: Path) -> None:
         dlplot.terrain_figures(f["terrain"], f["design"], f["experiment"], out)
     if "disturbance_images" in f:
         dlplot.disturbance_figure(f["disturbance_images"], out / "disturbance.png")
-    render(out, "downlooking.html", **downlooking_context(result.name, result.description, m, f["design"],
-                                                          f["disturbance_rows"], result.scenario_text))
+    render(out, "downlooking.html", paper=published()["seed000"],
+           **downlooking_context(result.name, result.description, m, f["design"], f["disturbance_rows"],
+                                 result.scenario_text))
 
 
 WRITERS["downlooking"] = write_downlooking

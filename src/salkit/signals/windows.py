@@ -17,6 +17,11 @@ def window(name: str, n: int, nbar: int = 4, sll: float = 35.0) -> np.ndarray:
     name : {"none", "hamming", "taylor"}
     n : int
     nbar, sll : Taylor parameters (number of equal sidelobes, sidelobe level in dB, positive).
+
+    Returns
+    -------
+    float64 (n,)
+        Peak 1 for ``hamming`` (Taylor normalised to 1 at the centre), all ones for ``none``.
     """
     if n <= 0:
         return np.ones(0)

@@ -21,7 +21,24 @@ ProgressFn = Optional[Callable[[int, int], None]]
 
 
 def fast_time_axis(n: int, adc_rate: float) -> np.ndarray:
-    """Fast-time sample times relative to the reference delay, s: (i - n//2)/adc_rate."""
+    """Fast-time sample times relative to the reference delay, s: (i - n//2)/adc_rate.
+
+    Parameters
+    ----------
+    n : int
+    adc_rate : float
+        Hz.
+
+    Returns
+    -------
+    float64 (n,)
+        s.
+
+    Examples
+    --------
+    >>> fast_time_axis(4, 2.0).tolist()
+    [-1.0, -0.5, 0.0, 0.5]
+    """
     return (np.arange(n) - n // 2) / adc_rate
 
 
@@ -58,6 +75,10 @@ def echo_signal(collection: Collection, scatter_pos: np.ndarray, scatter_amp: np
         Called as ``progress(done_pulses, total_pulses)``.
     path : TurbulentPath, optional
         Frozen turbulence screens; each echo carries its two-way path phase.
+
+    Returns
+    -------
+    complex64 (P, N)
     """
     w, p = scenario.waveform, scenario.platform
     pargs = _path_args(path)
@@ -109,6 +130,18 @@ def photon_noise(signal: np.ndarray, noise: Noise, rng: np.random.Generator) -> 
     ``poisson``: photocounts of the I and Q outputs of a 90-degree hybrid (seed 001 eq 8),
     Poisson with means eta_d (n_L + |U|^2)/2 + sqrt(eta_d n_L) Re/Im(s), LO DC removed and
     normalised by sqrt(eta_d n_L); n_L is the LO photon number per sample.
+
+    Parameters
+    ----------
+    signal : complex64 (P, N)
+        In shot-noise units; modified in place.
+    noise : Noise
+    rng : numpy.random.Generator
+
+    Returns
+    -------
+    complex64 (P, N)
+        ``signal``.
     """
     P, N = signal.shape
     if noise.model == "gaussian":
@@ -180,6 +213,16 @@ def signal_scale(scenario: Scenario, collection: Collection, n_samples: int) -> 
 
     With noise, a unit cell delivers N_s photons over the aperture, i.e. N_s/(N * P_ap) per sample,
     so that the focused cell's carrier-to-noise ratio is eta*N_s.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    collection : Collection
+    n_samples : int
+
+    Returns
+    -------
+    float
     """
     nz = scenario.receiver.noise
     if not nz.enabled:
@@ -198,6 +241,15 @@ def turbulent_path(scenario: Scenario, col: Collection):
 
     Raises ScenarioError when an explicit ``atmosphere.screen_n`` is smaller than the area the rays
     cross on some layer (the screen would be clamped at its edge).
+
+    Parameters
+    ----------
+    scenario : Scenario
+    col : Collection
+
+    Returns
+    -------
+    TurbulentPath
     """
     from ..atmosphere.path import ray_crossings, build_path
     from ..errors import ScenarioError

@@ -60,7 +60,23 @@ class DLScatterers:
 
 def make_scatterers(ground: np.ndarray, amplitude: np.ndarray, phase: np.ndarray, range_m: float,
                     look_angle_deg: float) -> DLScatterers:
-    """Scatterers from ground coordinates (x along, y across, z up; m) for a given look geometry."""
+    """Scatterers from ground coordinates (x along, y across, z up; m) for a given look geometry.
+
+    Parameters
+    ----------
+    ground : float64 (N, 3)
+        m.
+    amplitude, phase : float64 (N,)
+        |rho| and rad.
+    range_m : float
+        Reference range, m.
+    look_angle_deg : float
+        deg.
+
+    Returns
+    -------
+    DLScatterers
+    """
     g = np.asarray(ground, np.float64).reshape(-1, 3)
     dx, y, dz = beam_coordinates(g, range_m, look_angle_deg)
     return DLScatterers(dx, y, dz, np.asarray(amplitude, np.float64).ravel(),
@@ -82,7 +98,16 @@ class Disturbances:
 
 
 def no_disturbance(n_scans: int) -> Disturbances:
-    """Disturbances that are all absent."""
+    """Disturbances that are all absent.
+
+    Parameters
+    ----------
+    n_scans : int
+
+    Returns
+    -------
+    Disturbances
+    """
     z2 = np.zeros((0, 0))
     return Disturbances(np.zeros(n_scans), z2, z2, 1.0, z2, 1.0, 0.0, np.zeros(n_scans))
 
@@ -186,7 +211,19 @@ def _fields_kernel(d_x, y, d_z, amp, rho_phase, Y, t, scan_speed, lam, fx, fy, f
 
 
 def fast_time(design: DLDesign, duration: float) -> np.ndarray:
-    """Fast-time sample instants over one scan, s: -T_f/2 + k / f_s."""
+    """Fast-time sample instants over one scan, s: -T_f/2 + k / f_s.
+
+    Parameters
+    ----------
+    design : DLDesign
+    duration : float
+        Scan duration T_f, s.
+
+    Returns
+    -------
+    float64 (samples,)
+        s.
+    """
     return -0.5 * duration + np.arange(design.samples) / design.sample_rate
 
 
@@ -194,6 +231,18 @@ def track_positions(exp, design: DLDesign, y_min: float, y_max: float) -> np.nda
     """Along-track platform positions Y_n (m) for scenes spanning [y_min, y_max] along track.
 
     The scans start on an even index (a forward scan) and come in forward/backward pairs.
+
+    Parameters
+    ----------
+    exp : DownlookingExperiment
+    design : DLDesign
+    y_min, y_max : float
+        m.
+
+    Returns
+    -------
+    float64
+        m.
     """
     tr = exp.track
     half = 0.5 * design.spot_y
@@ -246,6 +295,22 @@ def simulate_factored(scat: DLScatterers, exp, design: DLDesign, Y: np.ndarray,
     X = exp(j pi [(x_in - s_V)^2 - (x_in - s_P)^2] / (lambda f_x)) and
     Y = exp(j 2 pi y_in^2 / (lambda f_y)) (times amplitudes and rects). Valid without motion
     during the scan and without transmitter-pupil turbulence (use :func:`simulate_fields` then).
+
+    Parameters
+    ----------
+    scat : DLScatterers
+    exp : DownlookingExperiment
+    design : DLDesign
+    Y : float64 (n_scans,)
+        m.
+    differential : float64 (n_scans,), optional
+        Differential phase between the beams, rad.
+    chunk : int
+        Scatterers per block.
+
+    Returns
+    -------
+    float64 (n_scans, samples)
     """
     if exp.detection != "aperture_averaged":
         raise ValueError("the factored simulation needs aperture-averaged detection")
@@ -282,7 +347,21 @@ def simulate_factored(scat: DLScatterers, exp, design: DLDesign, Y: np.ndarray,
 
 def add_receiver_noise(current: np.ndarray, snr_db: float | None, hwp_angle_deg: float,
                        rng: np.random.Generator) -> np.ndarray:
-    """White Gaussian receiver noise; SNR per sample against the beat amplitude of a unit scatterer."""
+    """White Gaussian receiver noise; SNR per sample against the beat amplitude of a unit scatterer.
+
+    Parameters
+    ----------
+    current : float (n_scans, samples)
+    snr_db : float or None
+        dB; None adds nothing.
+    hwp_angle_deg : float
+        deg.
+    rng : numpy.random.Generator
+
+    Returns
+    -------
+    float ndarray
+    """
     if snr_db is None:
         return current
     c, s = jones(hwp_angle_deg)
@@ -292,7 +371,25 @@ def add_receiver_noise(current: np.ndarray, snr_db: float | None, hwp_angle_deg:
 
 def simulate_current(scat: DLScatterers, exp, d: DLDesign, Y: np.ndarray, dist: Disturbances | None = None,
                      rng: np.random.Generator | None = None, force_fields: bool = False) -> np.ndarray:
-    """Balanced current of a scene: the field kernel, or its factored form where that is exact."""
+    """Balanced current of a scene: the field kernel, or its factored form where that is exact.
+
+    Parameters
+    ----------
+    scat : DLScatterers
+    exp : DownlookingExperiment
+    d : DLDesign
+    Y : float64 (n_scans,)
+        m.
+    dist : Disturbances, optional
+    rng : numpy.random.Generator, optional
+        Adds receiver noise when given.
+    force_fields : bool
+        Always use the field kernel.
+
+    Returns
+    -------
+    float64 (n_scans, samples)
+    """
     fields = (force_fields or exp.detection == "point_detector" or exp.track.speed is not None
               or (dist is not None and (dist.tx_screen.size > 0)) or scat.count <= 64)
     if fields:
@@ -306,7 +403,22 @@ def simulate_current(scat: DLScatterers, exp, d: DLDesign, Y: np.ndarray, dist: 
 
 
 def raw_dataset(current: np.ndarray, Y: np.ndarray, t: np.ndarray, d: DLDesign, scenario_text: str) -> xr.Dataset:
-    """The balanced-detector current as a labelled dataset (data-format.md, DL-SAL raw data)."""
+    """The balanced-detector current as a labelled dataset (data-format.md, DL-SAL raw data).
+
+    Parameters
+    ----------
+    current : float (n_scans, samples)
+    Y : float64 (n_scans,)
+        m.
+    t : float64 (samples,)
+        s.
+    d : DLDesign
+    scenario_text : str
+
+    Returns
+    -------
+    xarray.Dataset
+    """
     at = {"salkit_kind": "raw_downlooking", "salkit_format": FORMAT_VERSION, "salkit_version": salkit_version(),
           "scenario": scenario_text}
     at.update({f"design_{k}": v for k, v in d.as_dict().items()})

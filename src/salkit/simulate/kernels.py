@@ -45,6 +45,12 @@ def simulate_linear(pos, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp, tab
 
     ``scr`` (L, n, n) are turbulence screens (L = 0: none); each echo then carries the two-way
     path phase, twice the one-way phase along the antenna-scatterer ray (see atmosphere.path).
+
+    Parameters
+    ----------
+    pos, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp, table, dsin, out_re, out_im, scr, scr_z, scr_org, scr_dx, u0, ax_a, ax_b
+        Geometry (float64, m), reflectivities, fast time (s), chirp (Hz, Hz/s, s), beam table,
+        output planes (float32, filled in place) and screens; see :func:`salkit.simulate.echo_signal`.
     """
     P = pos.shape[0]
     S = scat.shape[0]
@@ -160,6 +166,12 @@ def simulate_exact(pos, vel, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp,
     ``coeffs[m]`` multiplies t**(m+2) in the frequency sweep (Hz/s**(m+2)); ``e_tab`` (spacing
     ``e_dt`` from ``e_t0``) tabulates an arbitrary chirp phase error e(t), rad (empty: none); with
     intra-pulse motion the antenna is at pos + vel * t during sample t.
+
+    Parameters
+    ----------
+    pos, vel, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp, coeffs, intra, table, dsin, out_re, out_im, scr, scr_z, scr_org, scr_dx, u0, ax_a, ax_b, e_t0, e_dt, e_tab
+        As :func:`simulate_linear`, with the antenna velocity (m/s), the chirp polynomial and the
+        tabulated chirp phase error.
     """
     P = pos.shape[0]
     S = scat.shape[0]

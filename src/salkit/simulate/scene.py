@@ -14,6 +14,17 @@ def pattern_mask(pattern: str, u: np.ndarray, v: np.ndarray) -> np.ndarray:
     """Built-in reflectivity patterns on normalised coordinates u, v in [-0.5, 0.5].
 
     ``u`` runs along track (azimuth), ``v`` along ground range. Returns reflectivity in [0, 1].
+
+    Parameters
+    ----------
+    pattern : str
+        ``uniform``, ``disk``, ``checker``, ``letter_I``, ...
+    u, v : float arrays
+        Normalised coordinates.
+
+    Returns
+    -------
+    float ndarray
     """
     if pattern == "uniform":
         return np.ones_like(u)
@@ -74,6 +85,18 @@ def extended_scatterers(ext: ExtendedScene, cell_area: float, rng: np.random.Gen
     lattice). Without speckle, ``smooth_phase(pos) -> rad`` gives each scatterer the phase that makes it add
     in phase in the focused image (the usual speckle-free idealisation; a surface of truly constant
     reflectivity phase would be a specular mirror and return almost nothing).
+
+    Parameters
+    ----------
+    ext : ExtendedScene
+    cell_area : float
+        m^2.
+    rng : numpy.random.Generator
+    smooth_phase : callable, optional
+
+    Returns
+    -------
+    (float64 (N, 3), complex128 (N,))
     """
     nx = max(int(round(ext.extent[0] / ext.spacing)), 1)
     ny = max(int(round(ext.extent[1] / ext.spacing)), 1)
@@ -109,7 +132,20 @@ def extended_scatterers(ext: ExtendedScene, cell_area: float, rng: np.random.Gen
 
 
 def build_scatterers(scenario: Scenario, cell_area: float, rng: np.random.Generator, smooth_phase=None):
-    """All scatterers of a scenario: positions (N, 3) m and complex reflectivities (N,)."""
+    """All scatterers of a scenario: positions (N, 3) m and complex reflectivities (N,).
+
+    Parameters
+    ----------
+    scenario : Scenario
+    cell_area : float
+        m^2.
+    rng : numpy.random.Generator
+    smooth_phase : callable, optional
+
+    Returns
+    -------
+    (float64 (N, 3), complex128 (N,))
+    """
     pts = scenario.scene.points
     pos = [np.array([[t.x, t.y, t.z] for t in pts], dtype=np.float64).reshape(-1, 3)]
     amp = [np.array([t.amplitude * np.exp(1j * t.phase) for t in pts], dtype=np.complex128)]

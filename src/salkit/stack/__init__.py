@@ -19,7 +19,24 @@ from ..simulate import photon_noise, simulate
 
 
 def squint_of(index: int, count: int, squint_max_deg: float) -> float:
-    """Squint (deg) of sub-aperture ``index`` of ``count`` spread evenly over +-squint_max."""
+    """Squint (deg) of sub-aperture ``index`` of ``count`` spread evenly over +-squint_max.
+
+    Parameters
+    ----------
+    index, count : int
+    squint_max_deg : float
+        deg.
+
+    Returns
+    -------
+    float
+        deg.
+
+    Examples
+    --------
+    >>> [squint_of(i, 4, 5.0) for i in range(4)]
+    [-3.75, -1.25, 1.25, 3.75]
+    """
     if count == 1:
         return 0.0
     return -squint_max_deg + 2 * squint_max_deg * (index + 0.5) / count
@@ -27,7 +44,17 @@ def squint_of(index: int, count: int, squint_max_deg: float) -> float:
 
 def geo_base(scenario: Scenario) -> Scenario:
     """The sub-aperture scenario implied by the experiment: straight-line pass at V and L0, one
-    sub-aperture L_sa long, spotlight on the target, no experiment block."""
+    sub-aperture L_sa long, spotlight on the target, no experiment block.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        With ``experiment.kind = spaceborne_geo``.
+
+    Returns
+    -------
+    Scenario
+    """
     from ..geometry.orbit import relative_speed, subaperture_length
     exp = scenario.experiment
     L0 = exp.r2 - exp.r1
@@ -39,14 +66,41 @@ def geo_base(scenario: Scenario) -> Scenario:
 
 
 def nearest_squints(count: int, sub_length: float, closest: float) -> list[float]:
-    """Squints (deg) of the ``count`` consecutive sub-apertures nearest closest approach."""
+    """Squints (deg) of the ``count`` consecutive sub-apertures nearest closest approach.
+
+    Parameters
+    ----------
+    count : int
+    sub_length : float
+        m.
+    closest : float
+        L0, m.
+
+    Returns
+    -------
+    list of float
+        deg.
+    """
     k = np.arange(count) - (count - 1) / 2
     return [float(v) for v in np.degrees(np.arctan(k * sub_length / closest))]
 
 
 def uncorrect(img: np.ndarray, az: np.ndarray, rg: np.ndarray, squint_deg: float) -> np.ndarray:
     """|image| resampled into the squinted frame of eq 11 (X = -x0 - z0 tan th, Y = z0 cos th +
-    x0 sin th): the sub-image as a squinted processor delivers it, before geometric correction."""
+    x0 sin th): the sub-image as a squinted processor delivers it, before geometric correction.
+
+    Parameters
+    ----------
+    img : complex (nx, ny)
+    az, rg : float64
+        m.
+    squint_deg : float
+        deg.
+
+    Returns
+    -------
+    float ndarray
+    """
     from scipy.ndimage import map_coordinates
     th = math.radians(squint_deg)
     X, Y = np.meshgrid(-az, rg, indexing="ij")
@@ -61,14 +115,39 @@ def uncorrect(img: np.ndarray, az: np.ndarray, rg: np.ndarray, squint_deg: float
 
 
 def subaperture(base: Scenario, squint_deg: float, noise_seed: int) -> Scenario:
-    """The scenario of one sub-aperture: same target and grid, its squint, its own noise seed."""
+    """The scenario of one sub-aperture: same target and grid, its squint, its own noise seed.
+
+    Parameters
+    ----------
+    base : Scenario
+    squint_deg : float
+        deg.
+    noise_seed : int
+
+    Returns
+    -------
+    Scenario
+    """
     p = base.platform.model_copy(update={"squint_deg": squint_deg})
     return base.model_copy(update={"platform": p, "seed": noise_seed})
 
 
 def subimage(base: Scenario, squint_deg: float, noise_seed: int, noise: bool = True) -> np.ndarray:
     """Complex sub-image on the common target grid. The scene (speckle) uses ``base.seed``; the
-    photon noise uses ``noise_seed``."""
+    photon noise uses ``noise_seed``.
+
+    Parameters
+    ----------
+    base : Scenario
+    squint_deg : float
+        deg.
+    noise_seed : int
+    noise : bool
+
+    Returns
+    -------
+    complex64 (nx, ny)
+    """
     sc = subaperture(base, squint_deg, base.seed)
     rng = np.random.default_rng(base.seed)  # the scene (speckle) draws first: the same target every time
     raw = simulate(sc, noise=False, rng=rng)
@@ -80,7 +159,20 @@ def subimage(base: Scenario, squint_deg: float, noise_seed: int, noise: bool = T
 
 
 def incoherent_stack(base: Scenario, count: int, squint_max_deg: float, noise: bool = True) -> tuple[np.ndarray, np.ndarray]:
-    """Incoherent stack (mean intensity) of ``count`` sub-images, and the first sub-image."""
+    """Incoherent stack (mean intensity) of ``count`` sub-images, and the first sub-image.
+
+    Parameters
+    ----------
+    base : Scenario
+    count : int
+    squint_max_deg : float
+        deg.
+    noise : bool
+
+    Returns
+    -------
+    (float ndarray, complex ndarray)
+    """
     acc = None
     first = None
     for i in range(count):
@@ -98,6 +190,12 @@ def coherent_stack(images, align: bool = True):
     resolution, not lower speckle. Real collections drift in phase between sub-apertures (laser
     phase, residual motion), so each sub-image's constant offset is estimated against the running
     sum, arg sum(img conj(acc)), and removed before it is added.
+
+    Parameters
+    ----------
+    images : iterable of complex ndarray
+    align : bool
+        Remove each sub-image's constant phase offset.
 
     Returns
     -------

@@ -21,7 +21,19 @@ from .result import Progress, RunResult, flat_numbers, stage
 
 
 def analyse_image(image: xr.Dataset, scenario: Scenario | None) -> tuple[dict, dict]:
-    """Metrics (flat numbers) and plotting details of a focused image."""
+    """Metrics (flat numbers) and plotting details of a focused image.
+
+    Parameters
+    ----------
+    image : xarray.Dataset
+    scenario : Scenario or None
+        For the true reflectivity phase of the brightest target.
+
+    Returns
+    -------
+    (dict, dict)
+        Flat metrics, and :func:`salkit.metrics.measure` details.
+    """
     details = measure(image, details=True)
     if scenario is not None and scenario.scene.points and "target_index" in details:
         t = scenario.scene.points[details["target_index"]]
@@ -37,6 +49,18 @@ def noise_metrics(scenario: Scenario, col, raw: xr.Dataset, image: xr.Dataset, d
     equalisation efficiency), so the noise power per pixel is s^2 / (eta*N_s*eff) with s the
     per-sample signal scale. Measured noise is |noisy - clean|^2 within +-15 resolution cells of
     the brightest target (where the whole aperture contributes).
+
+    Parameters
+    ----------
+    scenario : Scenario
+    col : Collection
+    raw, image : xarray.Dataset
+    details : dict
+        :func:`analyse_image` details.
+
+    Returns
+    -------
+    dict
     """
     from ..geometry.collection import equalisation_efficiency
     from ..simulate import signal_scale
@@ -108,7 +132,18 @@ def autofocus_image(image: xr.Dataset, scenario: Scenario | None, method: str | 
 
 
 def pulse_correct(raw: xr.Dataset, grid, chirp_correction: str = "none") -> tuple[xr.Dataset, dict]:
-    """Per-pulse autofocus of ``raw`` on ``grid``: the corrected phase history and its metrics."""
+    """Per-pulse autofocus of ``raw`` on ``grid``: the corrected phase history and its metrics.
+
+    Parameters
+    ----------
+    raw : xarray.Dataset
+    grid : Grid
+    chirp_correction : str
+
+    Returns
+    -------
+    (xarray.Dataset, dict)
+    """
     from ..autofocus import pulse_autofocus, pulse_metrics
 
     corrected, res = pulse_autofocus(raw, grid, chirp_correction=chirp_correction)

@@ -26,7 +26,20 @@ from .result import Progress, RunResult
 # --------------------------------------------------------------------------- helpers
 def image_position_theory(scat: DLScatterers, d: DLDesign, focal_transmit: float) -> np.ndarray:
     """Image position (along, cross) of each scatterer, m, by eq 20 with its own magnification:
-    xi = 2 (x_p + M_p S_b) v_x / (M_p lambda f_x) maps to x = M_ref f_t d_x / d_z."""
+    xi = 2 (x_p + M_p S_b) v_x / (M_p lambda f_x) maps to x = M_ref f_t d_x / d_z.
+
+    Parameters
+    ----------
+    scat : DLScatterers
+    d : DLDesign
+    focal_transmit : float
+        m.
+
+    Returns
+    -------
+    float64 (N, 2)
+        m.
+    """
     x_img = d.magnification * focal_transmit * scat.d_x / scat.d_z
     return np.stack([scat.y, x_img], axis=1)
 
@@ -42,6 +55,22 @@ def point_run(sc, d: DLDesign, exp, rng, dist: Disturbances | None = None, point
     """Simulate and focus the scenario's point targets at the down-looking geometry.
 
     Returns (scatterers, Y, current, images, truth).
+
+    Parameters
+    ----------
+    sc : DownlookingScenario
+    d : DLDesign
+    exp : DownlookingExperiment
+    rng : numpy.random.Generator
+    dist : Disturbances, optional
+    points : sequence of PointTarget, optional
+    order : str, optional
+    half_window : float
+        Half-size of the image window, m.
+
+    Returns
+    -------
+    tuple
     """
     pts = points if points is not None else sc.scene.points
     ground = np.array([[p.x, p.y, p.z] for p in pts], np.float64).reshape(-1, 3)
@@ -59,7 +88,20 @@ def point_run(sc, d: DLDesign, exp, rng, dist: Disturbances | None = None, point
 
 
 def extended_run(sc, d: DLDesign, exp, rng, order: str | None = None):
-    """The scenario's extended scene (flat, down-looking): images in both processing orders."""
+    """The scenario's extended scene (flat, down-looking): images in both processing orders.
+
+    Parameters
+    ----------
+    sc : DownlookingScenario
+    d : DLDesign
+    exp : DownlookingExperiment
+    rng : numpy.random.Generator
+    order : str, optional
+
+    Returns
+    -------
+    (DLScatterers, DLImages, DLImages)
+    """
     from ..simulate.scene import extended_scatterers
     ext = sc.scene.extended
     pos, amp = extended_scatterers(ext, d.resolution_x * d.resolution_y, rng)
@@ -79,6 +121,16 @@ def terrain_run(exp, d: DLDesign, rng):
     """Oblique observation of the 3-D terrain; interferogram, unwrapping, height and what it shows.
 
     Returns a dict of arrays and numbers.
+
+    Parameters
+    ----------
+    exp : DownlookingExperiment
+    d : DLDesign
+    rng : numpy.random.Generator
+
+    Returns
+    -------
+    dict
     """
     from ..interferometry import carrier_phase, recover_height, terrain_height, terrain_scatterers
     ter = exp.terrain
@@ -122,6 +174,19 @@ def make_disturbances(exp, d: DLDesign, Y: np.ndarray, which: str, rng_seed: int
 
     ``which``: "common" (vibration, jitter, shared path screen), "transmitter" (turbulent layer at the
     transmit pupil) or "differential" (polarisation-dependent phase).
+
+    Parameters
+    ----------
+    exp : DownlookingExperiment
+    d : DLDesign
+    Y : float64 (n_scans,)
+        m.
+    which : {"common", "transmitter", "differential"}
+    rng_seed : int
+
+    Returns
+    -------
+    Disturbances
     """
     from ..atmosphere.screens import phase_screens
     ds = exp.disturbance
@@ -159,7 +224,18 @@ def make_disturbances(exp, d: DLDesign, Y: np.ndarray, which: str, rng_seed: int
 
 def side_looking_scenario(exp, d: DLDesign, phase_error=None):
     """A foundation side-looking spotlight SAL of comparable resolution (first null equal to the DL-SAL's)
-    at the same wavelength and range, with the same per-pulse phase disturbance."""
+    at the same wavelength and range, with the same per-pulse phase disturbance.
+
+    Parameters
+    ----------
+    exp : DownlookingExperiment
+    d : DLDesign
+    phase_error : PhaseError, optional
+
+    Returns
+    -------
+    Scenario
+    """
     from ..constants import SPEED_OF_LIGHT
     from ..params.scenario import parse_scenario
     lam, R = d.wavelength, d.range
@@ -181,7 +257,20 @@ def side_looking_scenario(exp, d: DLDesign, phase_error=None):
 
 def disturbance_experiment(sc, exp, d: DLDesign, progress: Progress = None) -> dict:
     """The immunity experiment: DL-SAL under common-mode and non-common-mode disturbances, and a
-    side-looking SAL of comparable resolution under the same vibration."""
+    side-looking SAL of comparable resolution under the same vibration.
+
+    Parameters
+    ----------
+    sc : DownlookingScenario
+    exp : DownlookingExperiment
+    d : DLDesign
+    progress : callable, optional
+
+    Returns
+    -------
+    dict
+        ``cases`` (metrics by case) and ``images``.
+    """
     from ..focus import focus
     from ..simulate import simulate
     pts = sc.scene.points[:1]
@@ -243,6 +332,12 @@ def point_case(scenario, d: DLDesign, rng) -> tuple[dict, dict, dict]:
     """The point target: raw current, eq-19 and forward-only images, their metrics against theory
     and the fringe modulation of a point (with the paper's processing order beside it).
 
+    Parameters
+    ----------
+    scenario : DownlookingScenario
+    d : DLDesign
+    rng : numpy.random.Generator
+
     Returns
     -------
     (dict, dict, dict)
@@ -273,7 +368,18 @@ def point_case(scenario, d: DLDesign, rng) -> tuple[dict, dict, dict]:
 
 
 def scene_case(scenario, d: DLDesign, rng) -> tuple[dict, dict, dict]:
-    """The extended scene: fringes, their period (eq 25) and the paper's processing order."""
+    """The extended scene: fringes, their period (eq 25) and the paper's processing order.
+
+    Parameters
+    ----------
+    scenario : DownlookingScenario
+    d : DLDesign
+    rng : numpy.random.Generator
+
+    Returns
+    -------
+    (dict, dict, dict)
+    """
     from ..interferometry import fringe_period, interferogram
     exp = scenario.experiment
     sscat, simgs, spaper = extended_run(scenario, d, exp, rng)
@@ -286,7 +392,18 @@ def scene_case(scenario, d: DLDesign, rng) -> tuple[dict, dict, dict]:
 
 
 def terrain_case(scenario, d: DLDesign, rng) -> tuple[dict, dict, dict]:
-    """The oblique view of the 3-D terrain: images, interferogram and height (:func:`terrain_run`)."""
+    """The oblique view of the 3-D terrain: images, interferogram and height (:func:`terrain_run`).
+
+    Parameters
+    ----------
+    scenario : DownlookingScenario
+    d : DLDesign
+    rng : numpy.random.Generator
+
+    Returns
+    -------
+    (dict, dict, dict)
+    """
     exp = scenario.experiment
     ter = terrain_run(exp, d, rng)
     timgs = ter["images"]
@@ -299,7 +416,18 @@ def terrain_case(scenario, d: DLDesign, rng) -> tuple[dict, dict, dict]:
 
 
 def disturbance_case(scenario, d: DLDesign, progress: Progress = None) -> tuple[dict, dict, dict]:
-    """The disturbance experiment (:func:`disturbance_experiment`): metrics of every case."""
+    """The disturbance experiment (:func:`disturbance_experiment`): metrics of every case.
+
+    Parameters
+    ----------
+    scenario : DownlookingScenario
+    d : DLDesign
+    progress : callable, optional
+
+    Returns
+    -------
+    (dict, dict, dict)
+    """
     dres = disturbance_experiment(scenario, scenario.experiment, d, progress)
     metrics = {f"disturbance_{case}_{k}": v for case, mm in dres["cases"].items() for k, v in mm.items()
                if isinstance(v, (int, float))}

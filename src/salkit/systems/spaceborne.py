@@ -34,7 +34,16 @@ from .result import Progress, RunResult, stage
 
 def collection_metrics(scenario: Scenario) -> tuple[dict, list]:
     """The collection of the experiment (eqs 1-4): relative speed, closest distance, span,
-    sub-aperture length and count; and the squints (deg) of the sub-apertures to stack."""
+    sub-aperture length and count; and the squints (deg) of the sub-apertures to stack.
+
+    Parameters
+    ----------
+    scenario : Scenario
+
+    Returns
+    -------
+    (dict, list of float)
+    """
     exp = scenario.experiment
     L0 = exp.r2 - exp.r1
     D = collection_span(L0, exp.squint_max_deg)
@@ -47,7 +56,18 @@ def collection_metrics(scenario: Scenario) -> tuple[dict, list]:
 
 
 def truth_image(base: Scenario, az: np.ndarray, rg: np.ndarray) -> np.ndarray:
-    """The target's reflectivity on the image grid (its extended pattern)."""
+    """The target's reflectivity on the image grid (its extended pattern).
+
+    Parameters
+    ----------
+    base : Scenario
+    az, rg : float64
+        m.
+
+    Returns
+    -------
+    float ndarray
+    """
     ext = base.scene.extended
     if ext is None:
         return np.zeros((az.size, rg.size))
@@ -56,7 +76,19 @@ def truth_image(base: Scenario, az: np.ndarray, rg: np.ndarray) -> np.ndarray:
 
 
 def stack_curve(inten: np.ndarray, mask: np.ndarray, noise_power: float, snr_single: float) -> tuple[dict, list, list]:
-    """SNR of the stack of the first c sub-images for c on a log scale up to all of them (eq 16)."""
+    """SNR of the stack of the first c sub-images for c on a log scale up to all of them (eq 16).
+
+    Parameters
+    ----------
+    inten : float (K, nx, ny)
+    mask : bool (nx, ny)
+    noise_power : float
+    snr_single : float
+
+    Returns
+    -------
+    (dict, list of int, list of float)
+    """
     count = len(inten)
     counts = sorted({int(c) for c in np.unique(np.round(np.geomspace(2, count, 12)))}) if count >= 2 else [1]
     curve = [split_snr(inten[:c], mask, noise_power) if c >= 2 else snr_single for c in counts]
@@ -64,7 +96,19 @@ def stack_curve(inten: np.ndarray, mask: np.ndarray, noise_power: float, snr_sin
 
 
 def resolution_against_squint(base: Scenario, sub_length: float) -> tuple[dict, list, list]:
-    """Along-track resolution measured on a point target at several squints, against eq 12."""
+    """Along-track resolution measured on a point target at several squints, against eq 12.
+
+    Parameters
+    ----------
+    base : Scenario
+    sub_length : float
+        m.
+
+    Returns
+    -------
+    (dict, list of float, list of float)
+        Metrics, squints (deg), measured resolutions (m).
+    """
     L0 = base.platform.standoff
     nz = base.receiver.noise
     pt = base.model_copy(update={"scene": Scene(points=(PointTarget(),)), "receiver": base.receiver.model_copy(

@@ -41,7 +41,20 @@ def i_target_points(extent, spacing, seed: int = 0):
     """Point targets on the seed's "I" pattern (ground coordinates), with seeded Rayleigh amplitudes
     (mean power 1) and uniform random phases. Equal-amplitude lattices put several identical
     scatterers in every range line, the case phase gradient autofocus cannot handle (no dominant
-    scatterer); real multi-point targets are not like that."""
+    scatterer); real multi-point targets are not like that.
+
+    Parameters
+    ----------
+    extent : (float, float)
+        m.
+    spacing : float
+        m.
+    seed : int
+
+    Returns
+    -------
+    list of PointTarget
+    """
     rng = np.random.default_rng(seed)
     nx = int(round(extent[0] / spacing)) + 1
     ny = int(round(extent[1] / spacing)) + 1
@@ -56,7 +69,20 @@ def i_target_points(extent, spacing, seed: int = 0):
 
 
 def path_metrics(scenario: Scenario, classes: dict, R: float) -> dict:
-    """Fried parameters (plane, spherical, two-way) of each turbulence class over range ``R``, m."""
+    """Fried parameters (plane, spherical, two-way) of each turbulence class over range ``R``, m.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    classes : dict
+        Name -> Cn^2, m^(-2/3).
+    R : float
+        m.
+
+    Returns
+    -------
+    dict
+    """
     lam, out = scenario.waveform.wavelength, {}
     for name, cn2 in classes.items():
         if cn2 > 0:
@@ -69,7 +95,18 @@ def path_metrics(scenario: Scenario, classes: dict, R: float) -> dict:
 
 def screen_statistics(scenario: Scenario, r0_layer: float) -> tuple[dict, dict]:
     """Ensemble structure function of the experiment's screens against theory (the seed's fig 3):
-    its metrics and the curves."""
+    its metrics and the curves.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    r0_layer : float
+        m.
+
+    Returns
+    -------
+    (dict, dict)
+    """
     exp, atm = scenario.experiment, scenario.atmosphere or Atmosphere(cn2=1e-14)
     scr = phase_screens(exp.ensemble_n, atm.screen_dx, r0_layer, count=exp.ensemble_screens, seed=scenario.seed)
     r, d, e = structure_function_estimate(scr, atm.screen_dx)
@@ -82,6 +119,14 @@ def screen_statistics(scenario: Scenario, r0_layer: float) -> tuple[dict, dict]:
 
 def class_images(scenario: Scenario, name: str, cn2: float, i_pts) -> tuple[dict, dict, dict]:
     """One turbulence class: the point target and the "I" focused with PFA, before and after PGA.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    name : str
+    cn2 : float
+        m^(-2/3).
+    i_pts : list of PointTarget
 
     Returns
     -------
@@ -111,7 +156,18 @@ def class_images(scenario: Scenario, name: str, cn2: float, i_pts) -> tuple[dict
 
 def pga_steps(scenario: Scenario, image, worst: str) -> tuple[dict, dict]:
     """PGA stopped after each of the experiment's iteration counts, on one image: entropies and
-    the images."""
+    the images.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    image : xarray.Dataset
+    worst : str
+
+    Returns
+    -------
+    (dict, dict)
+    """
     p, steps, m = scenario.processing, {}, {}
     for n_it in scenario.experiment.pga_iterations:
         a, r_ = autofocus(image, "pga", kernel=p.autofocus_kernel, max_iter=n_it)

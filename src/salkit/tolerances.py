@@ -1,0 +1,26 @@
+"""Acceptance tolerances against theory, named once: the tests assert them and the reports colour
+their comparison rows with them.
+
+Each is the largest departure a correct implementation shows on the shipped cases, with the
+reason for its size.
+"""
+
+#: |IRW / theory - 1| for a point target (3 %: the measured -3 dB width on an 8x upsampled cut
+#: against the window's continuous IRW factor).
+IRW_RATIO = 0.03
+#: |PSLR - theory|, dB (sampled sidelobe peaks on a finite aperture).
+PSLR_DB = 0.3
+#: |ISLR - theory|, dB (the integration window's edges).
+ISLR_DB = 1.0
+#: |peak position - truth| in resolution cells.
+PEAK_OFFSET_CELLS = 0.1
+#: |peak phase - reflectivity phase|, rad.
+PEAK_PHASE_RAD = 0.05
+#: |CNR of the brightest target / theory - 1| for one realisation of photon noise.
+CNR_RATIO = 0.15
+#: |speckle image SNR / theory - 1|.
+SNR_RATIO = 0.1
+#: A chirp correction succeeds when the range IRW is within this fraction of the ideal chirp's.
+CHIRP_IRW_OF_IDEAL = 0.05
+#: Largest ratio of grid spacing to resolution accepted (1 % for rounding in the scenario).
+GRID_SPACING_OF_RESOLUTION = 1.01

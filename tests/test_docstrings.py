@@ -1,0 +1,50 @@
+"""Every public function of salkit has a numpydoc docstring: a summary, a Parameters section when
+it takes arguments and a Returns (or Yields) section when it returns a value. The command-line
+commands are exempt: their options carry their own help text (``salkit CMD --help``)."""
+import ast
+from pathlib import Path
+
+SRC = Path(__file__).resolve().parents[1] / "src" / "salkit"
+
+
+def _own_returns(fn) -> bool:
+    stack = list(fn.body)
+    while stack:
+        x = stack.pop()
+        if isinstance(x, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)):
+            continue
+        if isinstance(x, ast.Return) and x.value is not None:
+            return True
+        stack.extend(ast.iter_child_nodes(x))
+    return False
+
+
+def _is_cli_command(fn) -> bool:
+    return any(isinstance(d, ast.Call) and getattr(d.func, "attr", "") == "command" for d in fn.decorator_list)
+
+
+def _problems():
+    for f in sorted(SRC.rglob("*.py")):
+        for n in ast.parse(f.read_text()).body:
+            if not isinstance(n, ast.FunctionDef) or n.name.startswith("_") or _is_cli_command(n):
+                continue
+            doc = ast.get_docstring(n) or ""
+            args = [a.arg for a in n.args.args + n.args.kwonlyargs if a.arg not in ("self", "cls")]
+            where = f"{f.relative_to(SRC)}:{n.name}"
+            if not doc:
+                yield where, "no docstring"
+            elif args and "\nParameters\n" not in f"\n{doc}":
+                yield where, "no Parameters section"
+            elif _own_returns(n) and "\nReturns\n" not in doc and "\nYields\n" not in doc:
+                yield where, "no Returns section"
+
+
+def test_public_functions_have_numpydoc_sections():
+    bad = list(_problems())
+    assert not bad, "\n".join(f"{w}: {p}" for w, p in bad)
+
+
+def test_the_check_can_fail(tmp_path, monkeypatch):
+    (tmp_path / "m.py").write_text("def f(x):\n    '''Summary.'''\n    return x\n")
+    monkeypatch.setattr("tests.test_docstrings.SRC", tmp_path)
+    assert list(_problems()) == [("m.py:f", "no Parameters section")]
