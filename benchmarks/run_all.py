@@ -301,7 +301,7 @@ def bench_spaceborne(n=64):
     import shutil
     import tempfile
     from salkit.params import load_scenario
-    from salkit.systems.spaceborne import geo_base, nearest_squints, run_stack, subimage
+    from salkit.stack import geo_base, nearest_squints, run_stack, subimage
     ex = Path(__file__).resolve().parents[1] / "examples" / "spaceborne_geo.yaml"
     base = geo_base(load_scenario(ex))
     sq = nearest_squints(n, 3.1, 2e5)

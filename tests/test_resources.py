@@ -58,13 +58,3 @@ def test_screens_refused():
         phase_screens(64, 0.01, 0.05, outer_scale=1.0, inner_scale=10.0)
     with pytest.raises(ScenarioError, match="seed = -4"):
         phase_screens(64, 0.01, 0.05, seed=-4)
-
-
-def test_choices_formers_and_papers_are_one_list():
-    """The allowed algorithms are exactly the registered formers; the papers' tables load."""
-    from salkit.choices import ALGORITHMS
-    from salkit.focus import FORMERS
-    from salkit.papers import published
-    assert sorted(FORMERS) == sorted(ALGORITHMS)
-    t3 = published()["seed002"]["table3"]
-    assert all(len(v) == len(t3["r1"]) for v in t3["rows"].values())

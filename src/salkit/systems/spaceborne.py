@@ -27,8 +27,7 @@ from ..params.scenario import dump_scenario
 from ..resources import check_memory
 from ..simulate import signal_scale, simulate
 from ..simulate.scene import pattern_mask
-from ..stack import (coherent_stack, geo_base, incoherent_stack, nearest_squints, run_stack, squint_of,  # noqa: F401
-                     stack, stack_memory_estimate, subaperture, subimage, uncorrect)
+from ..stack import geo_base, nearest_squints, run_stack, stack_memory_estimate, subaperture, subimage, uncorrect
 from .result import Progress, RunResult, stage
 
 

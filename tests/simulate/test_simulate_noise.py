@@ -65,16 +65,3 @@ def test_stripmap_cnr_includes_beam_equalisation(alg):
     eff = equalisation_efficiency(sc)
     assert 0.75 < eff < 0.85
     assert np.mean(ratios) == pytest.approx(sc.receiver.noise.cnr * eff, rel=0.08)
-
-
-def test_run_reports_noise_against_model(tmp_path):
-    from salkit import tolerances as tol
-    from salkit.report import run_scenario as run
-    from ..conftest import STRIP
-    sc = parse_scenario(merge(STRIP, scene={"points": [{"x": 0.2, "y": 0.0, "amplitude": 5.0}], "extended": {
-        "kind": "pattern", "pattern": "uniform", "extent": [1.0, 0.5], "spacing": 0.007, "speckle": True}},
-        receiver={"adc_rate": 6e6, "noise": {"enabled": True, "signal_photons": 2.0, "quantum_efficiency": 0.8}}))
-    m = run(sc, tmp_path)
-    assert m["noise_power"] == pytest.approx(m["noise_power_theory"], rel=0.1)
-    assert m["cnr_peak"] == pytest.approx(m["cnr_peak_theory"], rel=tol.CNR_RATIO)
-    assert m["image_snr"] == pytest.approx(m["image_snr_theory"], rel=tol.SNR_RATIO)

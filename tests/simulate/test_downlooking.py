@@ -1,0 +1,36 @@
+"""Down-looking raw data: the factored simulation equals the field kernel."""
+import copy
+import math
+
+import numpy as np
+import pytest
+
+from salkit.errors import SamplingError, ScenarioError
+from salkit.geometry.downlooking import design, design_from_requirements
+from salkit.interferometry import fringe_period, interferogram
+from salkit.params import load_scenario, parse_scenario
+from salkit.simulate.downlooking import make_scatterers, simulate_factored, simulate_fields, track_positions
+from salkit.systems.downlooking import disturbance_experiment, extended_run, point_run, terrain_run
+
+from ..conftest import EXAMPLES
+
+
+EXAMPLE = EXAMPLES / "downlooking_3d.yaml"
+
+
+def scenario(*sets):
+    return load_scenario(EXAMPLE, list(sets))
+
+
+@pytest.mark.parametrize("hwp", [22.5, 10.0])
+def test_factored_simulation_equals_field_kernel(hwp):
+    sc = scenario(f"experiment.optics.hwp_angle_deg={hwp}")
+    exp, d = sc.experiment, design(sc.experiment)
+    rng = np.random.default_rng(0)
+    g = np.column_stack([rng.uniform(-0.4, 0.4, 40), rng.uniform(-2, 2, 40), rng.uniform(0, 1.5, 40)])
+    s = make_scatterers(g, rng.uniform(0.5, 1.5, 40), rng.uniform(-3, 3, 40), exp.track.range, 30.0)
+    Y = track_positions(exp, d, -0.4, 0.4)[::7]
+    a = simulate_fields(s, exp, d, Y)
+    b = simulate_factored(s, exp, d, Y)
+    assert np.abs(a).max() > 1
+    assert np.abs(a - b).max() < 1e-5 * np.abs(a).max()
