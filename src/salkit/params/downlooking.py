@@ -71,7 +71,9 @@ class Terrain(_Frozen):
     extent: tuple[float, float] = Field(description="size along track and across track (ground), m")
     spacing: float = Field(gt=0, description="scatterer spacing on the ground, m")
     kind: Literal["hills", "random"] = "hills"
-    peak_height: float = Field(default=0.5, ge=0, description="hills: highest peak; random: RMS height, m")
+    peak_height: float = Field(default=0.5, ge=0, description=(
+        "hills: amplitude of the tallest hill (overlapping hills add, so the surface may rise higher); "
+        "random: RMS height, m"))
     correlation_length: float = Field(default=0.6, gt=0, description="width of the hills / correlation length, m")
     speckle: bool = True
     seed: int = Field(default=0, ge=0)

@@ -46,5 +46,5 @@ def test_public_functions_have_numpydoc_sections():
 
 def test_the_check_can_fail(tmp_path, monkeypatch):
     (tmp_path / "m.py").write_text("def f(x):\n    '''Summary.'''\n    return x\n")
-    monkeypatch.setattr("tests.test_docstrings.SRC", tmp_path)
+    monkeypatch.setattr("tests.test_salkit_docstrings.SRC", tmp_path)
     assert list(_problems()) == [("m.py:f", "no Parameters section")]

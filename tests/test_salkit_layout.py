@@ -1,0 +1,48 @@
+"""The tests mirror the source file for file: ``tests/<package>/test_<module>[_<topic>].py`` tests
+``src/salkit/<package>/<module>.py`` (``test_<package>`` for the package's ``__init__``), every test
+file names a module that exists, and every module has a test file."""
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+SRC = ROOT / "src" / "salkit"
+TESTS = ROOT / "tests"
+
+
+def modules() -> set[str]:
+    """Source modules as 'package/module' ('package/package' for a package's __init__)."""
+    out = set()
+    for f in SRC.rglob("*.py"):
+        rel = f.relative_to(SRC)
+        pkg = rel.parent.as_posix()
+        name = rel.stem.lstrip("_")
+        if rel.name == "__init__.py":
+            if pkg != "." and not any(line.startswith(("def ", "class ")) for line in f.read_text().splitlines()):
+                continue  # re-exports only: tested through its modules
+            name = "salkit" if pkg == "." else rel.parent.name
+        out.add(f"{pkg}/{name}")
+    return out
+
+
+def test_module_of(test: Path) -> str | None:
+    """The module a test file tests: the longest module name its topic starts with."""
+    rel = test.relative_to(TESTS)
+    pkg = rel.parent.as_posix()
+    topic = rel.stem[len("test_"):]
+    cands = [m for m in modules() if m.startswith(f"{pkg}/") and
+             (topic == m.split("/")[-1] or topic.startswith(m.split("/")[-1] + "_"))]
+    return max(cands, key=len) if cands else None
+
+
+test_module_of.__test__ = False  # a helper, not a test
+
+
+def test_every_test_file_names_a_module():
+    bad = [str(t.relative_to(TESTS)) for t in TESTS.rglob("test_*.py")
+           if test_module_of(t) is None]
+    assert not bad, f"test files that name no module of src/salkit: {bad}"
+
+
+def test_every_module_has_a_test_file():
+    tested = {test_module_of(t) for t in TESTS.rglob("test_*.py")}
+    missing = sorted(modules() - tested)
+    assert not missing, f"modules without a test file: {missing}"
