@@ -1,5 +1,6 @@
 """The allowed choices, named once: the scenario models, the command line, the algorithms and the
 tests all read them from here."""
+from .errors import ScenarioError
 
 #: Image formers: backprojection, polar format, omega-k.
 ALGORITHMS = ("bp", "pfa", "omegak")
@@ -35,6 +36,5 @@ def check_choice(field: str, value, allowed: tuple) -> None:
     --------
     >>> check_choice("--plane", "ground", PLANES)
     """
-    from .errors import ScenarioError
     if value not in allowed:
         raise ScenarioError(field, value, f"must be one of {', '.join(allowed)}")

@@ -29,6 +29,9 @@ from ..errors import ScenarioError
 from ..resources import check_memory
 from .turbulence import psd
 from ..constants import FFT_WORKERS
+import lazy_loader as _lazy
+_scipy = _lazy.load("scipy", suppress_warning=True)
+_scipy_ndimage = _lazy.load("scipy.ndimage", suppress_warning=True)
 
 
 NEAR = 3  # FFT cells with max(|i|, |j|) <= NEAR are modelled as explicit sinusoids
@@ -68,10 +71,9 @@ def _spectrum_amplitudes(n, dx, r0, L0, l0):
         for q in range(-ALIAS, ALIAS + 1):
             if m or q:
                 alias += psd(np.hypot(GX + m * fs, GY + q * fs), r0, L0, l0)
-    from scipy.ndimage import map_coordinates
     ix = (fx / fs + 0.5) * 128 + 0 * fy
     iy = (fy / fs + 0.5) * 128 + 0 * fx
-    var += map_coordinates(alias, [ix.ravel(), iy.ravel()], order=1, mode="nearest").reshape(n, n)
+    var += _scipy_ndimage.map_coordinates(alias, [ix.ravel(), iy.ravel()], order=1, mode="nearest").reshape(n, n)
     var *= df * df
     # the PSD is strongly convex near DC: integrate the main (unaliased) term over each cell out to
     # |k| <= INTEGRATE (its centre value is 1.4/k^2 too low; beyond, < 0.5 %)
@@ -139,10 +141,9 @@ def _residual_tilt_std(n, dx, r0, L0, l0, levels):
     4 pi^2 r^2 int Phi f_x^2 d^2f: the structure function of a random tilt. For Kolmogorov this is
     still ~2.6 % of D(N/4) after 8 levels (it converges only as rho^(1/3)).
     """
-    from scipy import integrate
     side = 1.0 / (n * dx) / 3 ** levels
     rho = side / math.sqrt(math.pi)  # disk of the cell's area
-    val = integrate.quad(lambda f: psd(f, r0, L0, l0) * f ** 3, 0.0, rho, limit=200)[0]
+    val = _scipy.integrate.quad(lambda f: psd(f, r0, L0, l0) * f ** 3, 0.0, rho, limit=200)[0]
     return math.sqrt(4 * math.pi ** 2 * math.pi * val)
 
 

@@ -40,7 +40,6 @@ def autofocus(image: xr.Dataset, method: str = "pga", kernel: str = "lumv", max_
         The corrected image (attributes ``autofocus``, ``autofocus_kernel``) and the result with
         the per-iteration history (phase RMS in rad, entropy in nats).
     """
-    from ..metrics import image_phase_model
 
     if method == "pulse":
         raise ScenarioError("processing.autofocus", method, "pulse autofocus works on the phase history, "
@@ -114,6 +113,7 @@ def pulse_metrics(res: PulseAutofocusResult, prefix: str = "autofocus") -> dict:
 
 
 from .pulses import pulse_autofocus  # noqa: E402  (needs the names above)
+from ..metrics import image_phase_model
 
 __all__ = ["AutofocusResult", "IMAGE_METHODS", "KERNELS", "METHODS", "PulseAutofocusResult", "autofocus",
            "estimate_phase", "history_metrics", "min_entropy", "pga", "pulse_autofocus", "pulse_metrics",

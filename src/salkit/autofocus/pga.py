@@ -17,6 +17,9 @@ from ..metrics.image import entropy
 
 from ..choices import PGA_KERNELS as KERNELS  # noqa: E402
 from ..constants import FFT_WORKERS
+from numpy.polynomial import legendre
+import lazy_loader as _lazy
+_scipy_optimize = _lazy.load("scipy.optimize", suppress_warning=True)
 
 
 @dataclass
@@ -249,8 +252,6 @@ def _min_entropy_stage(image: np.ndarray, order: int | None = 24, band: np.ndarr
     enough for ~5 cycles of error across the aperture) over the
     phase-history band minimising the image entropy, by L-BFGS with the analytic gradient
     dE/dphi_k = -(2/N) sum_lines Im(H_k conj(FFT(w I)_k)), w = -(ln(|I|^2/S) + 1)/S."""
-    from numpy.polynomial import legendre
-    from scipy.optimize import minimize
 
     img0, G, band = _spectrum_and_band(image, band)
     n = img0.shape[0]
@@ -280,7 +281,7 @@ def _min_entropy_stage(image: np.ndarray, order: int | None = 24, band: np.ndarr
         hist.append(E)
         return E, Bfft.T @ grad_phi
 
-    res = minimize(fun, np.zeros(B.shape[1]), jac=True, method="L-BFGS-B", options={"maxiter": max_iter})
+    res = _scipy_optimize.minimize(fun, np.zeros(B.shape[1]), jac=True, method="L-BFGS-B", options={"maxiter": max_iter})
     phi = Bfft @ res.x
     if B.shape[1] == sel.size:  # free phases: remove the constant and slope (a shift), as PGA does
         phc = sfft.fftshift(phi)

@@ -383,7 +383,9 @@ def screen(n: int = typer.Option(..., "--n", help="screen size, samples"),
     _check_out_file(out, overwrite)
     from ..io.screens import write_screens
     phi = phase_screens(n, dx, r0, count=count, seed=seed, outer_scale=outer_scale, inner_scale=inner_scale)
-    nc, png = write_screens(phi, dx, out, r0=r0, seed=seed, outer_scale=outer_scale, inner_scale=inner_scale)
+    from ..plot import screen_image
+    nc = write_screens(phi, dx, out, r0=r0, seed=seed, outer_scale=outer_scale, inner_scale=inner_scale)
+    png = screen_image(phi[0], dx, out.with_suffix(".png"), title=f"phase screen 0 (r0 = {r0} m)")
     globals()["out"].print(f"wrote {nc} ({count} screens of {n} x {n}) and {png}")
 
 

@@ -26,6 +26,7 @@ from ..errors import SalkitError
 from .rangecomp import deskew
 
 from ..signals.chirp import TWO_PI, nonlinear_phase, reference_beat  # noqa: F401  (re-exported)
+from .interp import resample_rows
 
 
 class PhaseUnwrapError(SalkitError):
@@ -157,7 +158,6 @@ def correct_resample(signal: np.ndarray, e: np.ndarray, t: np.ndarray, k: float)
     -------
     complex64 (P, N)
     """
-    from .interp import resample_rows
     de = np.gradient(e, t) / TWO_PI  # Hz
     nu = k * t + de  # optical frequency offset from f0
     if np.any(np.diff(nu) <= 0):

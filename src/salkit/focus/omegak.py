@@ -15,7 +15,7 @@ import scipy.fft as sfft
 
 from ..constants import FFT_WORKERS, SPEED_OF_LIGHT
 from ..errors import ScenarioError
-from ..geometry.collection import beam_gain_table, two_way_3db_sin
+from ..geometry.collection import beam_gain, beam_gain_table, two_way_3db_sin
 from ..signals.windows import Window
 from .formers import ImageGrid, ImageResult, register_former
 from .interp import resample_rows
@@ -99,10 +99,7 @@ def omegak(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: n
     S *= np.exp(1j * kyK * Rs).astype(np.complex64)
     D = resample_rows(S, fpos, half=half)  # (nku, nky)
     sin_off = (ku_s - kuc) / (2 * Kc)
-    gi = np.abs(sin_off) / beam_dsin
-    i0 = np.clip(gi.astype(int), 0, len(beam_table) - 2)
-    fr = gi - i0
-    g = beam_table[i0] * (1 - fr) + beam_table[i0 + 1] * fr
+    g = beam_gain(beam_table, beam_dsin, sin_off)
     w_a = np.asarray(win_az(ku_s.size), np.float64) / np.maximum(g, 1e-3)
     w_r = np.asarray(win_rg(nky), np.float64)
     D = D * w_a[:, None] * w_r[None, :]

@@ -26,6 +26,7 @@ from .backprojection import _sincos_cycles
 from .formers import ImageGrid, ImageResult, register_former
 from .phasehistory import PhaseHistory
 from .interp import azimuth_pass, interp_rows_linear, kernel_table
+from ..resources import check_memory
 
 WORKERS = FFT_WORKERS
 
@@ -192,7 +193,6 @@ def pfa(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.n
                             f"({ext['azimuth']:.4g} m x {ext['range']:.4g} m, limited by "
                             f"{ext['limited_by']['azimuth']}/{ext['limited_by']['range']}) and crop, more "
                             f"than {MAX_COVER_PIXELS} pixels; use --algorithm bp or a coarser grid")
-    from ..resources import check_memory
     check_memory(24.0 * az2.size * rg2.size + 16.0 * ph.size, f"PFA on {az2.size} x {rg2.size} pixels (the "
                  f"{ext['azimuth']:.4g} m x {ext['range']:.4g} m illuminated scene at the grid's spacing)",
                  "use --algorithm bp or a coarser grid")

@@ -17,6 +17,7 @@ import xarray as xr
 
 from ..constants import FFT_WORKERS, SPEED_OF_LIGHT
 from ..errors import DataFileError
+from ..errors import ScenarioError
 
 WORKERS = FFT_WORKERS
 
@@ -104,7 +105,6 @@ def range_compress(raw: xr.Dataset, chirp_correction: str = "none") -> xr.Datase
         sig = analytic(sig, str(raw.attrs.get("real_sideband", "negative")))
     t = raw["fast_time"].values
     if chirp_correction != "none":
-        from ..errors import ScenarioError
         from .chirpcorr import correct_deskew, correct_resample, estimate_nonlinear_phase
         if "reference_signal" not in raw:
             raise ScenarioError("processing.chirp_correction", chirp_correction,

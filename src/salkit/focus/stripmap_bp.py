@@ -18,7 +18,7 @@ import math
 import numpy as np
 import scipy.fft as sfft
 
-from ..geometry.collection import beam_gain_table, two_way_3db_sin
+from ..geometry.collection import beam_gain, beam_gain_table, two_way_3db_sin
 from .backprojection import backproject
 from ..constants import FFT_WORKERS
 
@@ -82,9 +82,7 @@ def stripmap_backprojection(ph, plane, az, rg, win, upsample=8, progress=None):
     sin_off = -kappa / (2 * K) - sin_c
     band = np.abs(sin_off) <= s3
     table, dsin = beam_gain_table(lam, D)
-    gi = np.abs(sin_off[band]) / dsin
-    i0 = np.clip(gi.astype(int), 0, table.size - 2)
-    g = table[i0] * (1 - (gi - i0)) + table[i0 + 1] * (gi - i0)
+    g = beam_gain(table, dsin, sin_off[band])
     H = np.zeros(nxp)
     H[band] = _window_continuous(win, (sin_off[band] + s3) / (2 * s3)) / np.maximum(g, 1e-3)
     spec = sfft.fft(img, axis=0, workers=FFT_WORKERS)

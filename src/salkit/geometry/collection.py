@@ -94,6 +94,36 @@ def beam_gain_table(wavelength: float, diameter: float, n: int = 8192, u_max: fl
     return (one_way ** 2).astype(np.float64), dsin
 
 
+def beam_gain(table: np.ndarray, dsin: float, sin_off) -> np.ndarray:
+    """Two-way amplitude gain at off-boresight sines ``sin_off``, linearly interpolated in the
+    :func:`beam_gain_table` (0 beyond it). The simulator's numba kernel does the same lookup per
+    echo (``salkit.simulate.kernels._beam``; a test holds the two equal).
+
+    Parameters
+    ----------
+    table : float64 (n,)
+        :func:`beam_gain_table`.
+    dsin : float
+        Its step in sin(angle).
+    sin_off : float array
+        sin of the off-boresight angle (its magnitude is used).
+
+    Returns
+    -------
+    float64 ndarray
+
+    Examples
+    --------
+    >>> t, ds = beam_gain_table(1.55e-6, 0.1)
+    >>> float(beam_gain(t, ds, [0.0])[0])
+    1.0
+    """
+    gi = np.abs(np.asarray(sin_off, np.float64)) / dsin
+    i0 = np.clip(gi.astype(np.int64), 0, table.size - 2)
+    fr = gi - i0
+    return np.where(gi < table.size - 1, table[i0] * (1 - fr) + table[i0 + 1] * fr, 0.0)
+
+
 def angle_between(u: np.ndarray, v: np.ndarray) -> float:
     """Angle between two vectors, rad, accurate at any size (atan2 of the cross and dot products;
     acos of the dot product loses everything below ~1e-8 rad, a 0.2 m aperture at 13,000 km).

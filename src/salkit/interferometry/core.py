@@ -6,26 +6,9 @@ import math
 import numpy as np
 import scipy.fft as sfft
 
-
-def wrap(phase):
-    """Wrap phase (rad) into [-pi, pi).
-
-    Parameters
-    ----------
-    phase : float or array
-        rad.
-
-    Returns
-    -------
-    ndarray
-        rad.
-
-    Examples
-    --------
-    >>> wrap([3 * np.pi / 2, -np.pi]).round(4).tolist()
-    [-1.5708, -3.1416]
-    """
-    return (np.asarray(phase) + np.pi) % (2 * np.pi) - np.pi
+from ..signals.phase import wrap  # noqa: F401  (part of this package's API)
+import lazy_loader as _lazy
+_skimage_restoration = _lazy.load("skimage.restoration", suppress_warning=True)
 
 
 def interferogram(first: np.ndarray, second: np.ndarray) -> np.ndarray:
@@ -98,8 +81,7 @@ def unwrap_phase(phase: np.ndarray, method: str = "skimage", seed: int = 0) -> n
     if p.ndim != 2:
         raise ValueError(f"phase must be 2-D, got shape {p.shape}")
     if method == "skimage":
-        from skimage.restoration import unwrap_phase as sk_unwrap
-        return np.asarray(sk_unwrap(phase, rng=seed), dtype=np.float64)
+        return np.asarray(_skimage_restoration.unwrap_phase(phase, rng=seed), dtype=np.float64)
     if method == "least_squares":
         u = _ls_unwrap(wrap(p))
         c = tuple(s // 2 for s in p.shape)

@@ -5,6 +5,8 @@ import math
 
 import numpy as np
 from scipy.ndimage import gaussian_filter
+import lazy_loader as _lazy
+_scipy_interpolate = _lazy.load("scipy.interpolate", suppress_warning=True)
 
 
 def terrain_height(terrain, x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -42,8 +44,7 @@ def terrain_height(terrain, x: np.ndarray, y: np.ndarray) -> np.ndarray:
     gy = np.arange(-0.5 * ey - step, 0.5 * ey + 2 * step, step)
     f = gaussian_filter(rng.standard_normal((gx.size, gy.size)), sigma=8 / math.sqrt(2), mode="wrap")
     f *= terrain.peak_height / f.std()
-    from scipy.interpolate import RegularGridInterpolator
-    itp = RegularGridInterpolator((gx, gy), f, bounds_error=False, fill_value=0.0)
+    itp = _scipy_interpolate.RegularGridInterpolator((gx, gy), f, bounds_error=False, fill_value=0.0)
     return itp(np.stack(np.broadcast_arrays(x, y), axis=-1))
 
 

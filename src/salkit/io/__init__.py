@@ -8,6 +8,8 @@ from .cphd import check_cphd, read_cphd, write_cphd
 from .gotcha import read_gotcha, write_gotcha
 from .ingest import normalise_phase_history, regularise_axis
 from .sicd import check_sicd, read_sicd, write_sicd
+from ..errors import DataFileError as _E
+from pathlib import Path as _P
 
 PHASE_SUFFIXES = {".nc": "NetCDF", ".h5": "NetCDF", ".cphd": "CPHD", ".mat": "GOTCHA .mat"}
 
@@ -30,8 +32,6 @@ def read_phase_data(path) -> "_xr.Dataset":
     DataFileError
         Unknown suffix or an unusable file.
     """
-    from pathlib import Path as _P
-    from ..errors import DataFileError as _E
     suf = _P(path).suffix.lower()
     if suf == ".cphd":
         return read_cphd(path)

@@ -21,6 +21,7 @@ import xarray as xr
 from ..constants import SPEED_OF_LIGHT
 from ..errors import DataFileError
 from .datasets import atomic_path
+from .ingest import normalise_phase_history
 
 NS = "http://api.nsgreg.nga.mil/schema/cphd/1.0.1"
 DEFAULT_ORIGIN = (0.0, 0.0, 0.0)
@@ -107,7 +108,6 @@ def write_cphd(ph: xr.Dataset, path: str | Path, origin=None, collector: str = "
         A dataset that is not a phase history.
     """
     import lxml.etree as et
-    from .ingest import normalise_phase_history
     skcphd, wgs84 = _sarkit()
     if ph.attrs.get("salkit_kind") != "phase_history":
         raise DataFileError(f"CPHD export needs a phase history, got salkit_kind = {ph.attrs.get('salkit_kind')!r}")

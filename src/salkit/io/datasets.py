@@ -18,6 +18,12 @@ import numpy as np
 import xarray as xr
 
 from ..errors import DataFileError
+from .. import __version__
+from ..params.scenario import dump_scenario
+from ..errors import EnvironmentProblem
+import io
+import errno as _errno
+from .ingest import normalise_phase_history
 
 FORMAT_VERSION = "1.0"
 
@@ -75,7 +81,6 @@ def salkit_version() -> str:
     -------
     str
     """
-    from .. import __version__
     return __version__
 
 
@@ -100,7 +105,6 @@ def make_raw_dataset(signal: np.ndarray, collection, fast_time: np.ndarray, scen
     xarray.Dataset
         ``salkit_kind = raw`` (docs/data-format.md).
     """
-    from ..params.scenario import dump_scenario
 
     w, rx = scenario.waveform, scenario.receiver
     ds = xr.Dataset(
@@ -243,8 +247,6 @@ def write_dataset(ds: xr.Dataset, path: str | Path) -> Path:
     EnvironmentProblem
         The file cannot be written (permissions, a full disk); nothing is left behind.
     """
-    import io
-    from ..errors import EnvironmentProblem
     # HDF5 is written in memory, then copied with plain file I/O: a full disk then fails in
     # Python's write (a clean OSError), never inside HDF5, whose failed flush at exit crashes the
     # interpreter
@@ -262,7 +264,6 @@ def write_dataset(ds: xr.Dataset, path: str | Path) -> Path:
 
 
 def _os_reason(e: BaseException) -> str:
-    import errno as _errno
     for x in (e, getattr(e, "__cause__", None), getattr(e, "__context__", None)):
         if isinstance(x, OSError) and x.errno:
             if x.errno == _errno.ENOSPC:
@@ -283,7 +284,6 @@ def write_text_atomic(path: str | Path, text: str) -> Path:
     -------
     Path
     """
-    from ..errors import EnvironmentProblem
     try:
         with atomic_path(path) as tmp:
             with open(tmp, "w") as fh:
@@ -410,7 +410,6 @@ def read_raw(path: str | Path) -> xr.Dataset:
             if a not in ds.attrs:
                 raise DataFileError(f"{path}: raw file lacks the attribute '{a}'")
     else:
-        from .ingest import normalise_phase_history
         _require(ds, path, ["signal", "position", "reference_range", "frequency"], "phase_history")
         ds = normalise_phase_history(ds, str(path))
     if not np.iscomplexobj(ds["signal"].values):

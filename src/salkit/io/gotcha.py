@@ -16,6 +16,10 @@ import numpy as np
 import xarray as xr
 
 from ..errors import DataFileError
+import lazy_loader as _lazy
+from .ingest import normalise_phase_history
+from .datasets import atomic_path
+_scipy_io = _lazy.load("scipy.io", suppress_warning=True)
 
 #: Accepted spellings of each field (first found wins), lower case.
 FIELDS = {"fp": ("fp", "phdata", "phase_history"), "freq": ("freq", "f", "frequency"),
@@ -51,13 +55,12 @@ def read_gotcha(path: str | Path, apply_af: bool = True) -> xr.Dataset:
     DataFileError
         Unreadable file (v7.3 HDF5 included), missing fields, wrong shapes.
     """
-    from scipy.io import loadmat
 
     p = Path(path)
     if not p.is_file():
         raise DataFileError(f"{p}: file does not exist")
     try:
-        m = loadmat(p, squeeze_me=True, struct_as_record=False)
+        m = _scipy_io.loadmat(p, squeeze_me=True, struct_as_record=False)
     except NotImplementedError:
         raise DataFileError(f"{p}: MATLAB v7.3 (HDF5) file; save it with -v7 or convert with h5py") from None
     except Exception as e:  # noqa: BLE001 - scipy raises many kinds for bad files
@@ -107,7 +110,6 @@ def read_gotcha(path: str | Path, apply_af: bool = True) -> xr.Dataset:
         v = _field(d, (k,))
         if v is not None and np.asarray(v).size == P:
             ds[k] = (("slow_time",), np.asarray(v, np.float64).ravel(), {"units": "deg"})
-    from .ingest import normalise_phase_history
     return normalise_phase_history(ds, str(p))
 
 
@@ -125,8 +127,6 @@ def write_gotcha(ph: xr.Dataset, path: str | Path) -> Path:
     -------
     Path
     """
-    from scipy.io import savemat
-    from .datasets import atomic_path
 
     pos = np.asarray(ph["position"].values, np.float64)
     P = pos.shape[0]
@@ -137,7 +137,7 @@ def write_gotcha(ph: xr.Dataset, path: str | Path) -> Path:
             "r0": np.asarray(ph["reference_range"].values, np.float64), "th": th, "phi": phi,
             "af": {"r_correct": np.zeros(P), "ph_correct": np.zeros(P)}}
     with atomic_path(path, suffix=".mat") as tmp:
-        savemat(tmp, {"data": data}, do_compression=False)
+        _scipy_io.savemat(tmp, {"data": data}, do_compression=False)
     return Path(path)
 
 

@@ -21,6 +21,7 @@ import uuid
 from pathlib import Path
 
 from ..errors import DataFileError, EnvironmentProblem, ScenarioError
+from .. import __version__
 
 MANIFEST = "manifest.json"
 
@@ -77,7 +78,6 @@ def write_manifest(folder: Path, run_id: str, command: list[str] | None = None) 
     dict
         The manifest.
     """
-    from .. import __version__
     scen = folder / "scenario.yaml"
     m = {"salkit_manifest": 1, "run_id": run_id, "status": "complete", "salkit_version": __version__,
          "command": list(command if command is not None else sys.argv),

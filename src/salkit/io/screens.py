@@ -7,6 +7,7 @@ import numpy as np
 import xarray as xr
 
 from .datasets import write_dataset
+from .. import __version__
 
 
 def screens_dataset(phi: np.ndarray, dx: float, **attrs) -> xr.Dataset:
@@ -25,7 +26,6 @@ def screens_dataset(phi: np.ndarray, dx: float, **attrs) -> xr.Dataset:
     -------
     xarray.Dataset
     """
-    from .. import __version__
     K, ny, nx = phi.shape
     a = {k: v for k, v in attrs.items() if v is not None}
     a.update({"salkit_kind": "phase_screens", "salkit_version": __version__, "dx": dx,
@@ -36,8 +36,8 @@ def screens_dataset(phi: np.ndarray, dx: float, **attrs) -> xr.Dataset:
                               "x": ("x", np.arange(nx) * dx, {"units": "m"})}, attrs=a)
 
 
-def write_screens(phi: np.ndarray, dx: float, path: str | Path, **attrs) -> tuple[Path, Path]:
-    """Write screens to NetCDF and the first screen to a PNG beside it (both atomically).
+def write_screens(phi: np.ndarray, dx: float, path: str | Path, **attrs) -> Path:
+    """Write screens to NetCDF (atomically).
 
     Parameters
     ----------
@@ -52,12 +52,8 @@ def write_screens(phi: np.ndarray, dx: float, path: str | Path, **attrs) -> tupl
 
     Returns
     -------
-    (Path, Path)
-        The NetCDF file and the PNG.
+    Path
     """
-    from ..plot import screen_image
     path = Path(path)
     write_dataset(screens_dataset(phi, dx, **attrs), path)
-    png = path.with_suffix(".png")
-    screen_image(phi[0], dx, png, title=f"phase screen 0 (r0 = {attrs.get('r0')} m)")
-    return path, png
+    return path

@@ -9,10 +9,8 @@ import xarray as xr
 from .image import contrast, entropy, noise_power, snr_against_truth
 from .pointtarget import analyse_point, ipr_1d
 from .snr import split_snr, stack_snr
-
-
-def _wrap(x: float) -> float:
-    return float((x + math.pi) % (2 * math.pi) - math.pi)
+from ..signals.phase import wrap
+from ..constants import SPEED_OF_LIGHT
 
 
 def image_phase_model(image: xr.Dataset):
@@ -35,7 +33,6 @@ def image_phase_model(image: xr.Dataset):
     need = ("phase_reference", "aperture_center", "azimuth_axis", "range_axis", "carrier_frequency")
     if not all(k in at for k in need):
         return None
-    from ..constants import SPEED_OF_LIGHT
     k = 4 * np.pi * float(at["carrier_frequency"]) / SPEED_OF_LIGHT
     pc = np.asarray(at["aperture_center"], dtype=np.float64)
     a = np.asarray(at["azimuth_axis"], dtype=np.float64)
@@ -99,11 +96,11 @@ def measure(image: xr.Dataset, truth: np.ndarray | None = None, reflectivity_pha
     if truth is not None and len(truth) and phase_fn is not None:
         # The deterministic image phase changes by 4 pi/lambda per metre of range, so the phase is
         # read at the true target position: flattened peak phase plus the model phase there.
-        out["peak_phase_rad"] = _wrap(m["peak_phase_flat_rad"] + float(phase_fn(out["target_azimuth_m"],
-                                                                                  out["target_range_m"])))
+        out["peak_phase_rad"] = float(wrap(m["peak_phase_flat_rad"] + float(phase_fn(out["target_azimuth_m"],
+                                                                                  out["target_range_m"]))))
     out.pop("peak_phase_flat_rad", None)
     if reflectivity_phase is not None:
-        out["peak_phase_error_rad"] = _wrap(out["peak_phase_rad"] - reflectivity_phase)
+        out["peak_phase_error_rad"] = float(wrap(out["peak_phase_rad"] - reflectivity_phase))
         out["peak_phase_error_theory_rad"] = 0.0
     for ax in ("range", "azimuth"):
         if f"irw_{ax}_theory" in at:

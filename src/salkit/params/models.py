@@ -38,9 +38,7 @@ class ChirpPhaseError(_Frozen):
 
     def table(self, pulse_width: float, n: int = 8192):
         """(t, e) samples of the error over the pulse plus margins, s and rad."""
-        import numpy as np
         if self.kind == "file":
-            from pathlib import Path
             p = Path(self.file)
             if not p.is_file():
                 raise ValueError(f"chirp phase-error file {self.file} does not exist")
@@ -122,7 +120,6 @@ class PhaseError(_Frozen):
 
     def values(self, n: int):
         """The error (rad) on n pulses."""
-        import numpy as np
         t = np.linspace(-1, 1, n)
         if self.kind == "quadratic":
             return self.amplitude * t ** 2
@@ -274,7 +271,6 @@ class ReferenceChannel(_Frozen):
     @property
     def delay(self) -> float:
         """Differential delay (d_r - d_rlo)/c, s."""
-        from ..constants import SPEED_OF_LIGHT
         return (self.d_r - self.d_rlo) / SPEED_OF_LIGHT
 
 
@@ -407,7 +403,6 @@ class StackSettings(_Frozen):
     @field_validator("scheduler")
     @classmethod
     def _address(cls, v):
-        import re
         if v is not None and not re.fullmatch(r"(tcp|tls|ws|wss|ucx|inproc)://[^\s/:]+(:\d{1,5})?|[^\s/:]+:\d{1,5}", v):
             raise ValueError(f"scheduler address {v!r} must look like tcp://HOST:PORT (or HOST:PORT)")
         return v
@@ -431,6 +426,9 @@ class SpaceborneExperiment(_Frozen):
 
 # --------------------------------------------------------------------------- scenario
 from .downlooking import DownlookingExperiment  # noqa: E402  (it builds on the classes above)
+import numpy as np
+import re
+from pathlib import Path
 
 
 class _ScenarioBase(_Frozen):

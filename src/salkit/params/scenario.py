@@ -10,6 +10,7 @@ from pydantic import TypeAdapter, ValidationError
 
 from ..errors import ScenarioError
 from .models import AnyScenario, DownlookingScenario, Scenario
+from ..errors import EnvironmentProblem
 
 _ADAPTER = TypeAdapter(AnyScenario)
 
@@ -151,7 +152,6 @@ def read_yaml(path: str | Path) -> dict:
     except yaml.YAMLError as err:
         raise ScenarioError("scenario", str(p), f"is not valid YAML ({err})") from None
     except OSError as err:
-        from ..errors import EnvironmentProblem
         raise EnvironmentProblem(f"cannot read {p}: {err.strerror or err}") from None
     if not isinstance(data, dict):
         raise ScenarioError("scenario", str(p), "must hold a YAML mapping")

@@ -8,11 +8,13 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from ..io.datasets import atomic_path
+import lazy_loader as _lazy
+sfft = _lazy.load("scipy.fft", suppress_warning=True)
 
 
 
 def _save(fig, path: str | Path) -> Path:
-    from ..io.datasets import atomic_path
     try:
         with atomic_path(path, suffix=".png") as tmp:
             fig.savefig(tmp, dpi=110, bbox_inches="tight")
@@ -155,7 +157,6 @@ def autofocus_history(res, path, title: str = "") -> Path:
     -------
     Path
     """
-    import scipy.fft as sfft
     it = [h["iteration"] for h in res.history]
     fig, axes = plt.subplots(1, 2, figsize=(11, 3.6))
     ax = axes[0]

@@ -4,6 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import _db, _save, plt
+import textwrap
 
 
 def _ext(imgs):
@@ -167,7 +168,6 @@ def disturbance_figure(images, path):
             img, y, x = obj["image"].values, obj["azimuth"].values, obj["range"].values
         a.imshow(_db(img, np.abs(img).max()).T, origin="lower", extent=[y[0], y[-1], x[0], x[-1]], cmap="gray",
                  vmin=-35, vmax=0)
-        import textwrap
         a.set_title(textwrap.fill(title, 30), fontsize=8)
         a.set_xlabel("along track (m)")
     ax[0].set_ylabel("cross track (m)")

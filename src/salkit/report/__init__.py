@@ -16,6 +16,7 @@ from ..io.datasets import write_dataset, write_json_atomic, write_text_atomic
 from ..papers import published
 from ..systems import run_workflow
 from ..systems.result import Progress, RunResult
+from ..params.scenario import dump_scenario
 
 
 @lru_cache(maxsize=1)
@@ -93,7 +94,6 @@ def run_scenario(scenario, out_dir: str | Path, progress: Progress = None) -> di
     dict
         The metrics.
     """
-    from ..params.scenario import dump_scenario
     Path(out_dir).mkdir(parents=True, exist_ok=True)
     write_text_atomic(Path(out_dir) / "scenario.yaml", dump_scenario(scenario))  # what is running, first
     return write_run(run_workflow(scenario, out_dir, progress), out_dir)

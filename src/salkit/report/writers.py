@@ -9,6 +9,11 @@ from .. import __version__, plot
 from ..metrics.pointtarget import cut_curves
 from ..systems.result import RunResult
 from . import comparison_rows, files_table, render
+from ..papers import published
+from ..geometry.orbit import max_squint_for, resolution_vs_squint
+from ..plot import downlooking as dlplot
+from . import table3_cells
+from . import downlooking_context
 
 
 def write_airborne(result: RunResult, out: Path) -> None:
@@ -81,8 +86,6 @@ def write_chirp(result: RunResult, out: Path) -> None:
     result : RunResult
     out : Path
     """
-    from ..papers import published
-    from . import table3_cells
     sweeps = result.figures["sweeps"]
     for label, (rows_, cols_, grids, irws) in sweeps.items():
         plot.sweep_heatmaps(rows_, cols_, grids, irws, out / f"{label}.png",
@@ -104,7 +107,6 @@ def write_spaceborne(result: RunResult, out: Path) -> None:
     result : RunResult
     out : Path
     """
-    from ..geometry.orbit import max_squint_for, resolution_vs_squint
     f = result.figures
     q = np.linspace(-20, 20, 201)
     plot.resolution_squint_figure(f["squints"], f["measured"], q, resolution_vs_squint(f["wavelength"], f["L0"],
@@ -126,9 +128,6 @@ def write_downlooking(result: RunResult, out: Path) -> None:
     result : RunResult
     out : Path
     """
-    from ..papers import published
-    from ..plot import downlooking as dlplot
-    from . import downlooking_context
     f, m = result.figures, result.metrics
     if "point_details" in f:
         ds_pt = result.datasets["image_point.nc"]

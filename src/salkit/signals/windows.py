@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import lazy_loader as _lazy
+from ..choices import WINDOWS, check_choice
 
 # loaded on first use (scipy.signal costs 0.5 s to import); the parent, scipy, is light
 _signal = _lazy.load("scipy.signal", suppress_warning=True)
@@ -59,7 +60,6 @@ class Window:
     __slots__ = ("name", "nbar", "sll")
 
     def __init__(self, name: str = "none", nbar: int = 4, sll: float = 35.0):
-        from ..choices import WINDOWS, check_choice
         check_choice("window", name, WINDOWS)
         self.name, self.nbar, self.sll = name, int(nbar), float(sll)
 

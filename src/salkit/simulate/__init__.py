@@ -96,7 +96,6 @@ def echo_signal(collection: Collection, scatter_pos: np.ndarray, scatter_amp: np
         try:
             et, ev = w.phase_error.table(w.pulse_width)
         except ValueError as err:
-            from ..errors import ScenarioError
             raise ScenarioError("waveform.phase_error", w.phase_error.file or w.phase_error.kind, str(err)) from None
         etab = (float(et[0]), float(et[1] - et[0]), np.ascontiguousarray(ev, dtype=np.float64))
     else:
@@ -178,7 +177,6 @@ def signal_shape(scenario: Scenario) -> tuple[int, int]:
     -------
     (int, int)
     """
-    from ..geometry.collection import pulse_count
     gate = scenario.receiver.gate or scenario.waveform.pulse_width
     return pulse_count(scenario), int(gate * scenario.receiver.adc_rate) + 1
 
@@ -251,9 +249,6 @@ def turbulent_path(scenario: Scenario, col: Collection):
     -------
     TurbulentPath
     """
-    from ..atmosphere.path import ray_crossings, build_path
-    from ..errors import ScenarioError
-    from ..geometry.sampling import scene_probe_points
 
     atm = scenario.atmosphere
     u0 = col.center_position / np.linalg.norm(col.center_position)
@@ -368,7 +363,6 @@ def simulate_sal(scenario: Scenario, progress: ProgressFn = None, noise: bool | 
     ds = make_raw_dataset(sig, col, t, scenario, signal_units=units, noise=use_noise)
     refc = scenario.receiver.reference_channel
     if refc is not None:
-        from ..signals.chirp import reference_beat
         w = scenario.waveform
         ref = reference_beat(t, w.carrier_frequency, w.rate, w.nonlinearity, refc.delay)
         sd = 10 ** (-refc.snr_db / 20) / math.sqrt(2)
@@ -377,7 +371,6 @@ def simulate_sal(scenario: Scenario, progress: ProgressFn = None, noise: bool | 
                                   {"long_name": "dechirped reference-channel beat"})
         ds.attrs["reference_delay"] = refc.delay
     if not scenario.receiver.iq:
-        from ..geometry.sampling import delay_spread
         d0, d1 = delay_spread(scenario, col)
         ds.attrs["real_sideband"] = "negative" if d0 >= 0 else "positive"
     return ds
@@ -387,5 +380,11 @@ def simulate_sal(scenario: Scenario, progress: ProgressFn = None, noise: bool | 
 SIMULATORS = {"sal": simulate_sal, "downlooking": simulate_downlooking}
 
 from .._callable import make_callable as _make_callable  # noqa: E402
+from ..errors import ScenarioError
+from ..geometry.collection import pulse_count
+from ..atmosphere.path import ray_crossings, build_path
+from ..geometry.sampling import scene_probe_points
+from ..signals.chirp import reference_beat
+from ..geometry.sampling import delay_spread
 
 _make_callable(__name__, "simulate")

@@ -8,6 +8,8 @@ import numpy as np
 
 from ..errors import ScenarioError
 from ..params.models import ExtendedScene, Scenario
+import lazy_loader as _lazy
+_scipy_ndimage = _lazy.load("scipy.ndimage", suppress_warning=True)
 
 
 def pattern_mask(pattern: str, u: np.ndarray, v: np.ndarray) -> np.ndarray:
@@ -105,12 +107,11 @@ def extended_scatterers(ext: ExtendedScene, cell_area: float, rng: np.random.Gen
     X, Y = np.meshgrid(x, y, indexing="ij")
     u, v = X / ext.extent[0], Y / ext.extent[1]
     if ext.kind == "image":
-        from scipy.ndimage import map_coordinates
         img = _load_image(ext.file)
         # image rows run from far range (top) to near range; columns along track
         rows = (0.5 - v) * (img.shape[0] - 1)
         cols = (u + 0.5) * (img.shape[1] - 1)
-        refl = map_coordinates(img, [rows.ravel(), cols.ravel()], order=1).reshape(X.shape)
+        refl = _scipy_ndimage.map_coordinates(img, [rows.ravel(), cols.ravel()], order=1).reshape(X.shape)
     else:
         refl = pattern_mask(ext.pattern, u, v)
     refl = refl * ext.amplitude

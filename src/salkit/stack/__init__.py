@@ -16,6 +16,15 @@ import numpy as np
 from ..focus import focus, run_memory_estimate
 from ..params.models import Scenario
 from ..simulate import photon_noise, simulate
+from ..geometry.orbit import relative_speed, subaperture_length
+from ..params.scenario import parse_scenario
+from ..errors import SalkitError
+from ..params.scenario import dump_scenario
+from ..errors import EnvironmentProblem
+import lazy_loader as _lazy
+_dask_distributed = _lazy.load("dask.distributed", suppress_warning=True)
+_scipy_ndimage = _lazy.load("scipy.ndimage", suppress_warning=True)
+zarr = _lazy.load("zarr", suppress_warning=True)
 
 
 def squint_of(index: int, count: int, squint_max_deg: float) -> float:
@@ -55,7 +64,6 @@ def geo_base(scenario: Scenario) -> Scenario:
     -------
     Scenario
     """
-    from ..geometry.orbit import relative_speed, subaperture_length
     exp = scenario.experiment
     L0 = exp.r2 - exp.r1
     V = relative_speed(exp.r1, exp.r2)
@@ -101,7 +109,6 @@ def uncorrect(img: np.ndarray, az: np.ndarray, rg: np.ndarray, squint_deg: float
     -------
     float ndarray
     """
-    from scipy.ndimage import map_coordinates
     th = math.radians(squint_deg)
     X, Y = np.meshgrid(-az, rg, indexing="ij")
     # invert eq 11 for (x0, z0)
@@ -111,7 +118,7 @@ def uncorrect(img: np.ndarray, az: np.ndarray, rg: np.ndarray, squint_deg: float
     z0 = inv[1, 0] * X + inv[1, 1] * Y
     ia = (x0 - az[0]) / (az[1] - az[0])
     ir = (z0 - rg[0]) / (rg[1] - rg[0])
-    return map_coordinates(np.abs(img), [ia, ir], order=1, cval=0.0)
+    return _scipy_ndimage.map_coordinates(np.abs(img), [ia, ir], order=1, cval=0.0)
 
 
 def subaperture(base: Scenario, squint_deg: float, noise_seed: int) -> Scenario:
@@ -219,7 +226,6 @@ def _subimage_chunk_task(base_dict: dict, indices: list, squints: list, noise: b
 
     Chunks amortise the per-task costs (scheduling, parsing the scenario) that otherwise take twice
     the compute of a sub-image."""
-    from ..params.scenario import parse_scenario
     base = parse_scenario(base_dict)
     out = np.stack([np.abs(subimage(base, q, i, noise)) ** 2 for i, q in zip(indices, squints)])
     return list(indices), out.astype(np.float32)
@@ -276,22 +282,17 @@ def run_stack(base: Scenario, squints, store, scheduler: str | None = None,
     (stack, computed)
         The mean intensity over all stored sub-images and how many this call computed.
     """
-    import zarr
-    from dask.distributed import Client, LocalCluster, as_completed
 
-    from ..errors import SalkitError
-    from ..params.scenario import dump_scenario
 
     cluster = None
     try:  # connect first: an unreachable scheduler writes nothing
         if scheduler:
-            client = Client(scheduler, timeout="5s")
+            client = _dask_distributed.Client(scheduler, timeout="5s")
         else:
-            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+            cluster = _dask_distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                                    dashboard_address=None)
-            client = Client(cluster)
+            client = _dask_distributed.Client(cluster)
     except (OSError, TimeoutError) as err:
-        from ..errors import EnvironmentProblem
         raise EnvironmentProblem(f"--scheduler {scheduler}: no Dask scheduler answers there "
                                  f"({type(err).__name__})") from None
     try:
@@ -315,7 +316,7 @@ def run_stack(base: Scenario, squints, store, scheduler: str | None = None,
         chunks = [todo[a:a + size] for a in range(0, len(todo), size)]
         futures = [client.submit(_subimage_chunk_task, bd, ch, [squints[i] for i in ch], noise, pure=False)
                    for ch in chunks]
-        for fut in as_completed(futures):
+        for fut in _dask_distributed.as_completed(futures):
             idx, inten = fut.result()
             for i, im in zip(idx, inten):
                 root["intensity"][i] = im

@@ -1,6 +1,7 @@
 """Seed systems as compositions of the lower layers: each ``run(scenario, out_dir, progress)``
 returns a :class:`~salkit.systems.result.RunResult`; the report layer writes it."""
 from .result import RunResult
+import importlib
 
 
 def run_workflow(scenario, out_dir=None, progress=None) -> RunResult:
@@ -18,7 +19,6 @@ def run_workflow(scenario, out_dir=None, progress=None) -> RunResult:
     -------
     RunResult
     """
-    import importlib
 
     module = importlib.import_module(f"{__name__}.{WORKFLOWS[scenario.kind]}")  # only the one that runs
     return module.run(scenario, out_dir, progress=progress)

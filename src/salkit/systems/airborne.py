@@ -18,6 +18,10 @@ from ..params.models import Processing, Scenario
 from ..params.scenario import dump_scenario, stored_scenario
 from ..simulate import simulate
 from .result import Progress, RunResult, flat_numbers, stage
+from ..geometry.collection import equalisation_efficiency
+from ..simulate import signal_scale
+from ..autofocus import autofocus, history_metrics
+from ..autofocus import pulse_autofocus, pulse_metrics
 
 
 def analyse_image(image: xr.Dataset, scenario: Scenario | None) -> tuple[dict, dict]:
@@ -62,8 +66,6 @@ def noise_metrics(scenario: Scenario, col, raw: xr.Dataset, image: xr.Dataset, d
     -------
     dict
     """
-    from ..geometry.collection import equalisation_efficiency
-    from ..simulate import signal_scale
 
     nz = scenario.receiver.noise
     clean = simulate(scenario, noise=False)
@@ -116,7 +118,6 @@ def autofocus_image(image: xr.Dataset, scenario: Scenario | None, method: str | 
     (xarray.Dataset, AutofocusResult, dict)
         The focused image, the result with its history, and ``before_autofocus_*`` metrics.
     """
-    from ..autofocus import autofocus, history_metrics
 
     p = scenario.processing if scenario is not None else None
     method = method or p.autofocus
@@ -144,7 +145,6 @@ def pulse_correct(raw: xr.Dataset, grid, chirp_correction: str = "none") -> tupl
     -------
     (xarray.Dataset, dict)
     """
-    from ..autofocus import pulse_autofocus, pulse_metrics
 
     corrected, res = pulse_autofocus(raw, grid, chirp_correction=chirp_correction)
     m = pulse_metrics(res)

@@ -21,6 +21,14 @@ from ..params.scenario import dump_scenario
 from ..simulate.downlooking import (DLScatterers, Disturbances, fast_time, make_scatterers, no_disturbance,
                                     raw_dataset, simulate_current, track_positions)
 from .result import Progress, RunResult
+from ..simulate.scene import extended_scatterers
+from ..interferometry import carrier_phase, recover_height, terrain_height, terrain_scatterers
+from ..atmosphere.screens import phase_screens
+from ..constants import SPEED_OF_LIGHT
+from ..params.scenario import parse_scenario
+from ..focus import focus
+from ..simulate import simulate
+from ..interferometry import fringe_period, interferogram
 
 
 # --------------------------------------------------------------------------- helpers
@@ -102,7 +110,6 @@ def extended_run(sc, d: DLDesign, exp, rng, order: str | None = None):
     -------
     (DLScatterers, DLImages, DLImages)
     """
-    from ..simulate.scene import extended_scatterers
     ext = sc.scene.extended
     pos, amp = extended_scatterers(ext, d.resolution_x * d.resolution_y, rng)
     # foundation scene frame: x along track, y across track (ground), z up
@@ -132,7 +139,6 @@ def terrain_run(exp, d: DLDesign, rng):
     -------
     dict
     """
-    from ..interferometry import carrier_phase, recover_height, terrain_height, terrain_scatterers
     ter = exp.terrain
     look = exp.terrain_look_angle_deg
     th = math.radians(look)
@@ -188,7 +194,6 @@ def make_disturbances(exp, d: DLDesign, Y: np.ndarray, which: str, rng_seed: int
     -------
     Disturbances
     """
-    from ..atmosphere.screens import phase_screens
     ds = exp.disturbance
     base = no_disturbance(Y.size)
     rng = np.random.default_rng(rng_seed)
@@ -236,8 +241,6 @@ def side_looking_scenario(exp, d: DLDesign, phase_error=None):
     -------
     Scenario
     """
-    from ..constants import SPEED_OF_LIGHT
-    from ..params.scenario import parse_scenario
     lam, R = d.wavelength, d.range
     res = d.resolution_x
     L = lam * R / (2 * res)
@@ -271,8 +274,6 @@ def disturbance_experiment(sc, exp, d: DLDesign, progress: Progress = None) -> d
     dict
         ``cases`` (metrics by case) and ``images``.
     """
-    from ..focus import focus
-    from ..simulate import simulate
     pts = sc.scene.points[:1]
     rng = np.random.default_rng(sc.seed + 101)
     _, Y, _, clean, truth = point_run(sc, d, exp, rng, points=pts, half_window=0.3)
@@ -380,7 +381,6 @@ def scene_case(scenario, d: DLDesign, rng) -> tuple[dict, dict, dict]:
     -------
     (dict, dict, dict)
     """
-    from ..interferometry import fringe_period, interferogram
     exp = scenario.experiment
     sscat, simgs, spaper = extended_run(scenario, d, exp, rng)
     per = fringe_period(interferogram(simgs.forward.astype(np.complex128), simgs.backward.astype(np.complex128)),
