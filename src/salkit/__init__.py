@@ -24,7 +24,8 @@ from .errors import DataFileError, SalkitError, SamplingError, ScenarioError  # 
 __getattr__, __dir__, _ = _lazy.attach(
     __name__,
     submodules=["atmosphere", "autofocus", "focus", "geometry", "interferometry", "io", "metrics", "params",
-                "plot", "report", "resources", "signals", "simulate", "systems"],
+                "plot", "report", "resources", "signals", "simulate", "stack", "systems", "choices", "papers",
+                "tolerances"],
     submod_attrs={"params": ["Scenario", "load_scenario"], "focus": ["range_compress"],
                   "metrics": ["measure"], "geometry": ["truth_positions"]},
 )
