@@ -24,6 +24,10 @@ same run. Run with ``make bench`` (or ``.venv/bin/python benchmarks/run_all.py``
   layout and back, focused; per-pulse sharpness autofocus per sweep against PGA per iteration at
   1024 x 1024.
 
+- ffbp: fast factorised backprojection against direct backprojection at 512^2, 1024^2 and 4096^2
+  pixels (as many pulses), direct BP timed on a block of rows and scaled; ffbp_knobs: the
+  accuracy-speed curve over the polar-grid oversampling.
+
 ``python benchmarks/run_all.py screens`` runs one group.
 """
 from __future__ import annotations
@@ -414,6 +418,88 @@ def bench_downlooking(extent=2.4):
     }
 
 
+def _synthetic_collection(P, M, R=5000.0, lam=1.55e-6, res=0.02):
+    """A spotlight phase history of three points at range R (float64 geometry), P pulses x M
+    frequencies, for the given resolution in both dimensions."""
+    fc = C / lam
+    B = C / (2 * res)
+    f = fc + (np.arange(M) - M // 2) * B / M
+    L = lam * R / (2 * res)
+    y = np.linspace(-L / 2, L / 2, P)
+    pos = np.stack([y, np.full(P, -R * 0.8), np.full(P, R * 0.6)], axis=1)
+    ref = np.linalg.norm(pos, axis=1)
+    ph = np.zeros((P, M), np.complex64)
+    for t in np.array([[0, 0, 0], [0.3, 0.2, 0], [-0.5, -0.4, 0]]):
+        dR = np.linalg.norm(pos - t, axis=1) - ref
+        ph += np.exp(-4j * np.pi * f[None, :] * dR[:, None] / C).astype(np.complex64)
+    return ph, f, pos, ref, res
+
+
+def bench_ffbp(sizes=((512, None), (1024, 128), (4096, 32))):
+    """Fast factorised backprojection against direct backprojection on the same data (N x N pixels,
+    N pulses): direct BP timed on a block of rows around the centre and scaled to the image, FFBP
+    on the whole image; the image error energy on the block."""
+    from salkit.focus.backprojection import backproject
+    from salkit.focus.ffbp import ffbp
+    from salkit.focus.formers import ImageGrid
+    from salkit.geometry.collection import grid_axes, plane_from
+    from salkit.params import Grid
+    out = {}
+    for n, rows in sizes:
+        ph, f, pos, ref, res = _synthetic_collection(n, n)
+        g = Grid(nx=n, ny=n, dx=0.8 * res, dy=0.8 * res)
+        plane = plane_from(np.array([1.0, 0, 0]), pos[n // 2], "slant")
+        az, rg = grid_axes(g)
+        grid = ImageGrid(plane, az, rg, g)
+        M = ph.shape[1]
+        ffbp(ph[:64], f, pos[:64], ref[:64], ImageGrid(plane, az[:32], rg[:32], g), np.ones(64), np.ones(M))
+        t0 = time.perf_counter()
+        img, info = ffbp(ph, f, pos, ref, grid, np.ones(n), np.ones(M))
+        t_f = time.perf_counter() - t0
+        rows = rows or n
+        sub = slice(n // 2 - rows // 2, n // 2 + rows // 2)
+        a = az[sub]
+        backproject(ph[:8], f, pos[:8], ref[:8], plane.points(a[:2], 0 * a[:2]), plane.range, rg[:8],
+                    np.ones((2, 8), np.float32), np.ones(M))
+        t0 = time.perf_counter()
+        ref_img = backproject(ph, f, pos, ref, plane.points(a, 0 * a), plane.range, rg,
+                              np.ones((a.size, n), np.float32), np.ones(M))
+        t_d = (time.perf_counter() - t0) * n / a.size
+        err = np.sum(np.abs(ref_img - img[sub]) ** 2) / np.sum(np.abs(ref_img) ** 2)
+        out.update({f"ffbp_{n}_s": t_f, f"ffbp_{n}_direct_bp_s": t_d, f"ffbp_{n}_speedup": t_d / t_f,
+                    f"ffbp_{n}_error_db": float(10 * np.log10(err)), f"ffbp_{n}_levels": info["ffbp_levels"],
+                    f"ffbp_{n}_polar_samples_per_level": info["ffbp_polar_samples"]})
+    return out
+
+
+def bench_ffbp_knobs(n=512):
+    """The accuracy knob: image error against direct BP, and time, over the polar oversampling."""
+    from salkit.focus.backprojection import backproject
+    from salkit.focus.ffbp import ffbp
+    from salkit.focus.formers import ImageGrid
+    from salkit.geometry.collection import grid_axes, plane_from
+    from salkit.params import Grid
+    ph, f, pos, ref, res = _synthetic_collection(n, n)
+    g = Grid(nx=n, ny=n, dx=0.8 * res, dy=0.8 * res)
+    plane = plane_from(np.array([1.0, 0, 0]), pos[n // 2], "slant")
+    az, rg = grid_axes(g)
+    grid = ImageGrid(plane, az, rg, g)
+    M = ph.shape[1]
+    ref_img = backproject(ph, f, pos, ref, plane.points(az, 0 * az), plane.range, rg, np.ones((n, n), np.float32),
+                          np.ones(M))
+    out = {}
+    for oa, orr in ((2.0, 2.0), (2.5, 2.5), (3.0, 2.5), (3.0, 3.0), (4.0, 4.0)):
+        ffbp(ph[:64], f, pos[:64], ref[:64], ImageGrid(plane, az[:32], rg[:32], g), np.ones(64), np.ones(M),
+             oversample_angle=oa, oversample_range=orr)
+        t0 = time.perf_counter()
+        img, _ = ffbp(ph, f, pos, ref, grid, np.ones(n), np.ones(M), oversample_angle=oa, oversample_range=orr)
+        dt = time.perf_counter() - t0
+        err = np.sum(np.abs(ref_img - img) ** 2) / np.sum(np.abs(ref_img) ** 2)
+        out[f"ffbp_knob_{oa:g}x{orr:g}_error_db"] = float(10 * np.log10(err))
+        out[f"ffbp_knob_{oa:g}x{orr:g}_s"] = dt
+    return out
+
+
 def main():
     info = {"machine": platform.processor() or platform.machine(), "cpus": os.cpu_count(),
             "python": platform.python_version(), "numpy": np.__version__}
@@ -422,7 +508,7 @@ def main():
     for name, fn in (("backprojection", bench_backprojection), ("pfa", bench_pfa), ("simulation", bench_simulation),
                      ("screens", bench_screens), ("pga", bench_pga), ("chirp", bench_chirp),
                      ("spaceborne", bench_spaceborne), ("downlooking", bench_downlooking), ("outside", bench_outside),
-                     ("startup", bench_startup)):
+                     ("startup", bench_startup), ("ffbp", bench_ffbp), ("ffbp_knobs", bench_ffbp_knobs)):
         if only and name not in only:
             continue
         t0 = time.perf_counter()

@@ -2,8 +2,8 @@
 tests all read them from here."""
 from .errors import ScenarioError
 
-#: Image formers: backprojection, polar format, omega-k.
-ALGORITHMS = ("bp", "pfa", "omegak")
+#: Image formers: backprojection, polar format, omega-k, fast factorised backprojection.
+ALGORITHMS = ("bp", "pfa", "omegak", "ffbp")
 #: Amplitude windows.
 WINDOWS = ("none", "hamming", "taylor")
 #: Image planes of a grid.

@@ -241,7 +241,7 @@ def _check_out_file(path: Path, overwrite: bool, field: str = "--out") -> None:
 @_guard
 def focus(raw: Path = typer.Argument(..., help="raw or phase-history NetCDF file"),
           out_dir: Path = typer.Option(..., "--out", help="output folder"),
-          algorithm: Optional[str] = typer.Option(None, help="bp | pfa | omegak"),
+          algorithm: Optional[str] = typer.Option(None, help="bp | pfa | omegak | ffbp (fast factorised backprojection, spotlight)"),
           window: Optional[str] = typer.Option(None, help="none | hamming | taylor"),
           nx: Optional[int] = typer.Option(None), ny: Optional[int] = typer.Option(None),
           dx: Optional[float] = typer.Option(None), dy: Optional[float] = typer.Option(None),

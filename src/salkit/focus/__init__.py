@@ -23,7 +23,7 @@ from ..resources import check_memory
 from ..signals.windows import Window
 from ..tolerances import GRID_SPACING_OF_RESOLUTION
 from ..simulate import memory_estimate as simulate_memory_estimate, signal_shape
-from . import bp, omegak, pfa  # noqa: F401  (each registers its former)
+from . import bp, ffbp, omegak, pfa  # noqa: F401  (each registers its former)
 from .downlooking import focus_downlooking_raw
 from .formers import FORMERS, ImageGrid, ImageResult, get_former, register_former
 from .phasehistory import PhaseHistory, default_grid, phase_history, theory_resolution
@@ -45,7 +45,7 @@ def memory_estimate(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: 
         Signal shape.
     nx, ny : int
         Output grid, pixels.
-    algorithm : {"bp", "pfa", "omegak"}
+    algorithm : {"bp", "pfa", "omegak", "ffbp"}
     raw : bool
         Dechirped fast-time data (deskewed here) rather than a phase history.
     cover_pixels : int, optional
@@ -103,7 +103,7 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=
     scenario : Scenario, optional
         The scenario ``raw`` was simulated from, when the caller has it (saves parsing the copy
         stored in ``raw.attrs``; used for the processing defaults and the true target positions).
-    algorithm : {"bp", "pfa", "omegak"}, optional
+    algorithm : {"bp", "pfa", "omegak", "ffbp"}, optional
         Overrides ``processing.algorithm``.
     grid : Grid, optional
         Overrides ``processing.grid``.
@@ -197,7 +197,7 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
         "phase_reference": "track" if (alg == "omegak" or ph.mode == "stripmap") else "aperture_centre",
         "aperture_center": ph.center_position,
     }
-    attrs.update({k: v for k, v in result.info.items() if k.startswith(("support_", "cover_", "illuminated_"))})
+    attrs.update({k: v for k, v in result.info.items() if k.startswith(("support_", "cover_", "illuminated_", "ffbp_"))})
     for k in ("frequency_fit_residual_steps", "frequency_fit_residual", "phase_sign_converted"):
         if k in ph.attrs:
             attrs[k] = ph.attrs[k]

@@ -54,8 +54,7 @@ def _bp_row(pk, r0, inv_dr, hi, A, B, refp, rg, cyc_per_m, w, out_re, out_im, id
         idx[j] = i0
         frs[j] = np.float32(x - i0)
         cyc = dR * cyc_per_m
-        y = np.float32(cyc - np.float64(np.int64(cyc)))  # in (-1, 1), exact in float64
-        y = y - np.float32(np.int32(y + np.float32(0.5) * (np.float32(y >= 0) - np.float32(y < 0))))
+        y = np.float32(cyc - math.floor(cyc + 0.5))  # in [-0.5, 0.5), reduced in float64 (vectorises)
         s, c = _sincos_cycles(y)
         ss[j] = s * valid * w
         cs[j] = c * valid * w
