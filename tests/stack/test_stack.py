@@ -110,3 +110,16 @@ def test_coherent_stacking_with_phase_alignment():
         plain, _ = coherent_stack([im * x for im, x in zip(ims, d)], align=False)
         lost.append(np.abs(plain).max() / np.abs(aligned).max())
     assert np.mean(lost) < 0.75
+
+
+def test_subimage_is_the_focused_image():
+    """The lean sub-image path (the former alone) gives exactly what focus() gives."""
+    from salkit.params import load_scenario
+    from salkit.simulate import photon_noise  # noqa: F401
+    from salkit.stack import geo_base, subaperture
+
+    from ..conftest import EXAMPLES
+    base = geo_base(load_scenario(EXAMPLES / "spaceborne_geo.yaml"))
+    sc = subaperture(base, 1.5, base.seed)
+    raw = simulate(sc, noise=False, rng=np.random.default_rng(base.seed))
+    np.testing.assert_array_equal(subimage(base, 1.5, 0, noise=False), focus(raw, sc.processing)["image"].values)

@@ -293,7 +293,7 @@ def pfa_on_grid(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_ran
     _finalise(img, np.ascontiguousarray(az, np.float64), np.ascontiguousarray(rg, np.float64),
               plane.azimuth, plane.range, pc, kx_c, ky_c, 4 * np.pi * freq[M // 2] / c,
               np.float32(1.0 / (w_a.sum() * w_r.sum())))
-    return img.astype(np.complex64), {"support_azimuth": nkx, "support_range": nky}
+    return img.astype(np.complex64, copy=False), {"support_azimuth": nkx, "support_range": nky}
 
 
 @register_former("pfa")

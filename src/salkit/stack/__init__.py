@@ -13,7 +13,8 @@ import math
 
 import numpy as np
 
-from ..focus import focus, run_memory_estimate
+from ..focus import ImageGrid, focus, get_former, phase_history, run_memory_estimate
+from ..signals.windows import Window
 from ..params.models import Scenario
 from ..simulate import photon_noise, simulate
 from ..geometry.orbit import relative_speed, subaperture_length
@@ -162,7 +163,12 @@ def subimage(base: Scenario, squint_deg: float, noise_seed: int, noise: bool = T
         sig = raw["signal"].values.copy()
         photon_noise(sig, base.receiver.noise, np.random.default_rng(10_000_019 + noise_seed))
         raw["signal"].values[...] = sig
-    return focus(raw, sc.processing, scenario=sc)["image"].values
+    # the former alone: a sub-image needs no dataset, no truth positions, no collection record
+    p = sc.processing
+    ph = phase_history(raw, p.chirp_correction)
+    res = get_former(p.algorithm)(ph, ImageGrid.of(ph, p.grid), Window(p.window, p.taylor_nbar, p.taylor_sll),
+                                  upsample=p.range_upsample)
+    return res.image
 
 
 def incoherent_stack(base: Scenario, count: int, squint_max_deg: float, noise: bool = True) -> tuple[np.ndarray, np.ndarray]:
@@ -289,8 +295,11 @@ def run_stack(base: Scenario, squints, store, scheduler: str | None = None,
         if scheduler:
             client = _dask_distributed.Client(scheduler, timeout="5s")
         else:
+            # one compute thread per worker process: numba's own pool would otherwise put
+            # workers x cores threads on the cores
             cluster = _dask_distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   dashboard_address=None)
+                                                     dashboard_address=None,
+                                                     env={"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"})
             client = _dask_distributed.Client(cluster)
     except (OSError, TimeoutError) as err:
         raise EnvironmentProblem(f"--scheduler {scheduler}: no Dask scheduler answers there "
