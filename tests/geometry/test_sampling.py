@@ -60,3 +60,10 @@ def test_single_point_cannot_alias_but_grid_replicas_warn():
     with pytest.warns(UserWarning, match="unambiguous azimuth extent"):
         rep = check_sampling(sc)
     assert rep.doppler_bandwidth == pytest.approx(0.0, abs=1e-6)
+
+
+def test_ffbp_on_stripmap_refused_before_work():
+    from salkit.geometry import build_collection, check_sampling
+    sc = parse_scenario(merge(STRIP, processing__algorithm="ffbp"))
+    with pytest.raises(ScenarioError, match="ffbp"):
+        check_sampling(sc, build_collection(sc))

@@ -234,6 +234,9 @@ def check_sampling(scenario: Scenario, col: Collection | None = None) -> Samplin
                                 f"must be >= twice the highest beat frequency, {need:.6g} Hz (real sampling)")
     if proc.algorithm == "pfa" and p.mode != "spotlight":
         raise ScenarioError("processing.algorithm", "pfa", "the polar format algorithm needs spotlight mode")
+    if proc.algorithm == "ffbp" and p.mode != "spotlight":
+        raise ScenarioError("processing.algorithm", "ffbp", "fast factorised backprojection is for spotlight data "
+                            "here; use bp for stripmap (it equalises the beam)")
     if proc.algorithm == "omegak" and (p.mode != "stripmap" or p.positions is not None):
         raise ScenarioError("processing.algorithm", "omegak",
                             "omega-k needs stripmap mode on a straight track")
