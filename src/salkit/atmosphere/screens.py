@@ -147,6 +147,18 @@ def _residual_tilt_std(n, dx, r0, L0, l0, levels):
     return math.sqrt(4 * math.pi ** 2 * math.pi * val)
 
 
+@lru_cache(maxsize=16)
+def _subharmonic_table(n, dx, L0, l0, levels):
+    """:func:`_subharmonic_cells` at r0 = 1 m, computed once per size, spacing and scales."""
+    return _subharmonic_cells(n, dx, 1.0, L0, l0, levels)
+
+
+@lru_cache(maxsize=16)
+def _tilt_table(n, dx, L0, l0, levels):
+    """:func:`_residual_tilt_std` at r0 = 1 m, computed once per size, spacing and scales."""
+    return _residual_tilt_std(n, dx, 1.0, L0, l0, levels)
+
+
 def phase_screens(n: int, dx: float, r0: float, count: int = 1, seed: int | None = 0,
                   outer_scale: float | None = None, inner_scale: float | None = None,
                   levels: int = 4, dtype=np.float64, rng: np.random.Generator | None = None,
@@ -207,9 +219,12 @@ def phase_screens(n: int, dx: float, r0: float, count: int = 1, seed: int | None
     check_memory(need, f"{count} phase screen(s) of {n} x {n}", "reduce --n or --count (screens can be made in "
                  "several files)")
     rng = rng if rng is not None else np.random.default_rng(seed)
-    amp = _spectrum_amplitudes(m, dx, r0, outer_scale, inner_scale)
-    sfx, sfy, samp = _subharmonic_cells(m, dx, r0, outer_scale, inner_scale, levels)
-    tilt = _residual_tilt_std(m, dx, r0, outer_scale, inner_scale, levels) if levels else 0.0
+    # the PSD is r0^(-5/3) times a shape: tables at r0 = 1 m (cached), amplitudes scaled by r0^(-5/6)
+    scale = r0 ** (-5.0 / 6.0)
+    amp = _spectrum_amplitudes(m, dx, 1.0, outer_scale, inner_scale) * scale
+    sfx, sfy, samp = _subharmonic_table(m, dx, outer_scale, inner_scale, levels)
+    samp = samp * scale
+    tilt = _tilt_table(m, dx, outer_scale, inner_scale, levels) * scale if levels else 0.0
     x = np.arange(n) * dx
     xc = x - x.mean()
     ex = np.exp(2j * np.pi * np.outer(sfx, x)).astype(np.complex64)  # (C, n)
