@@ -435,6 +435,22 @@ def _synthetic_collection(P, M, R=5000.0, lam=1.55e-6, res=0.02):
     return ph, f, pos, ref, res
 
 
+def _ffbp_problem(n):
+    """The synthetic collection of N pulses and its N x N grid at 0.8 of the resolution, with the
+    FFBP kernels compiled on a small part of it."""
+    from salkit.focus.ffbp import ffbp
+    from salkit.focus.formers import ImageGrid
+    from salkit.geometry.collection import grid_axes, plane_from
+    from salkit.params import Grid
+    ph, f, pos, ref, res = _synthetic_collection(n, n)
+    g = Grid(nx=n, ny=n, dx=0.8 * res, dy=0.8 * res)
+    plane = plane_from(np.array([1.0, 0, 0]), pos[n // 2], "slant")
+    az, rg = grid_axes(g)
+    M = ph.shape[1]
+    ffbp(ph[:64], f, pos[:64], ref[:64], ImageGrid(plane, az[:32], rg[:32], g), np.ones(64), np.ones(M))
+    return ph, f, pos, ref, ImageGrid(plane, az, rg, g)
+
+
 def bench_ffbp(sizes=((512, None), (1024, 256), (4096, 128))):
     """Fast factorised backprojection against direct backprojection on the same data (N x N pixels,
     N pulses): direct BP timed on blocks of R and R/2 rows around the centre, its per-row cost
@@ -442,18 +458,10 @@ def bench_ffbp(sizes=((512, None), (1024, 256), (4096, 128))):
     image; the image error energy on the block."""
     from salkit.focus.backprojection import backproject
     from salkit.focus.ffbp import ffbp
-    from salkit.focus.formers import ImageGrid
-    from salkit.geometry.collection import grid_axes, plane_from
-    from salkit.params import Grid
     out = {}
     for n, rows in sizes:
-        ph, f, pos, ref, res = _synthetic_collection(n, n)
-        g = Grid(nx=n, ny=n, dx=0.8 * res, dy=0.8 * res)
-        plane = plane_from(np.array([1.0, 0, 0]), pos[n // 2], "slant")
-        az, rg = grid_axes(g)
-        grid = ImageGrid(plane, az, rg, g)
-        M = ph.shape[1]
-        ffbp(ph[:64], f, pos[:64], ref[:64], ImageGrid(plane, az[:32], rg[:32], g), np.ones(64), np.ones(M))
+        ph, f, pos, ref, grid = _ffbp_problem(n)
+        plane, az, rg, M = grid.plane, grid.azimuth, grid.range, ph.shape[1]
         t0 = time.perf_counter()
         img, info = ffbp(ph, f, pos, ref, grid, np.ones(n), np.ones(M))
         t_f = time.perf_counter() - t0
@@ -488,20 +496,14 @@ def bench_ffbp_knobs(n=512):
     from salkit.focus.backprojection import backproject
     from salkit.focus.ffbp import ffbp
     from salkit.focus.formers import ImageGrid
-    from salkit.geometry.collection import grid_axes, plane_from
-    from salkit.params import Grid
-    ph, f, pos, ref, res = _synthetic_collection(n, n)
-    g = Grid(nx=n, ny=n, dx=0.8 * res, dy=0.8 * res)
-    plane = plane_from(np.array([1.0, 0, 0]), pos[n // 2], "slant")
-    az, rg = grid_axes(g)
-    grid = ImageGrid(plane, az, rg, g)
-    M = ph.shape[1]
+    ph, f, pos, ref, grid = _ffbp_problem(n)
+    plane, az, rg, M = grid.plane, grid.azimuth, grid.range, ph.shape[1]
     ref_img = backproject(ph, f, pos, ref, plane.points(az, 0 * az), plane.range, rg, np.ones((n, n), np.float32),
                           np.ones(M))
     out = {}
     for oa, orr in ((2.0, 2.0), (2.5, 2.5), (3.0, 2.5), (3.0, 3.0), (4.0, 4.0)):
-        ffbp(ph[:64], f, pos[:64], ref[:64], ImageGrid(plane, az[:32], rg[:32], g), np.ones(64), np.ones(M),
-             oversample_angle=oa, oversample_range=orr)
+        ffbp(ph[:64], f, pos[:64], ref[:64], ImageGrid(plane, az[:32], rg[:32], grid.spec), np.ones(64),
+             np.ones(M), oversample_angle=oa, oversample_range=orr)
         t0 = time.perf_counter()
         img, _ = ffbp(ph, f, pos, ref, grid, np.ones(n), np.ones(M), oversample_angle=oa, oversample_range=orr)
         dt = time.perf_counter() - t0

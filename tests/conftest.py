@@ -10,6 +10,13 @@ from salkit.params import parse_scenario
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"
+DL_EXAMPLE = EXAMPLES / "downlooking_3d.yaml"
+
+
+def dl_scenario(*sets):
+    """The shipped down-looking example with ``key.path=value`` overrides."""
+    from salkit.params import load_scenario
+    return load_scenario(DL_EXAMPLE, list(sets))
 
 SPOT = {
     "name": "test_spot", "seed": 1,

@@ -12,14 +12,7 @@ from salkit.params import load_scenario, parse_scenario
 from salkit.simulate.downlooking import make_scatterers, simulate_factored, simulate_fields, track_positions
 from salkit.systems.downlooking import disturbance_experiment, extended_run, point_run, terrain_run
 
-from ..conftest import EXAMPLES
-
-
-EXAMPLE = EXAMPLES / "downlooking_3d.yaml"
-
-
-def scenario(*sets):
-    return load_scenario(EXAMPLE, list(sets))
+from ..conftest import DL_EXAMPLE as EXAMPLE, EXAMPLES, dl_scenario as scenario  # noqa: F401
 
 
 @pytest.mark.parametrize("hwp", [22.5, 10.0])

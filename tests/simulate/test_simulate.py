@@ -15,22 +15,6 @@ from ..conftest import GEO, SPOT, merge
 C = 299792458.0
 
 
-def closed_form(col, pos, amp, sc, t):
-    """g exp(-j 2 pi (f0 + k t) dtau + j pi k dtau^2) per pulse and sample, g = (2 J1(u)/u)^2."""
-    from scipy.special import j1
-    f0, k = C / sc.waveform.wavelength, sc.waveform.rate
-    rel = pos[None, :, :] - col.positions[:, None, :]
-    R = np.linalg.norm(rel, axis=2)
-    cosb = np.einsum("pnk,pk->pn", rel, col.boresight) / R
-    u = np.pi * sc.platform.real_aperture * np.sqrt(np.maximum(1 - cosb ** 2, 0)) / sc.waveform.wavelength
-    g = np.where(u > 1e-12, (2 * j1(np.maximum(u, 1e-12)) / np.maximum(u, 1e-12)) ** 2, 1.0)
-    amp = amp[None, :] * g
-    dtau = 2 * (R - col.reference_range[:, None]) / C
-    cyc = -(f0 + k * t[None, None, :]) * dtau[..., None] + 0.5 * k * dtau[..., None] ** 2
-    return (amp[:, :, None] * np.exp(2j * np.pi * (cyc - np.floor(cyc)))).sum(axis=1)
-
-
-
 def test_nonlinear_chirp_phase_against_long_double():
     c2, c3 = 5.58e18, 8.58e22
     sc = parse_scenario(merge(SPOT, waveform__nonlinearity=[c2, c3], scene={"points": [{"x": 0.0, "y": 0.6}]}))

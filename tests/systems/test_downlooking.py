@@ -12,23 +12,7 @@ from salkit.params import load_scenario, parse_scenario
 from salkit.simulate.downlooking import make_scatterers, simulate_factored, simulate_fields, track_positions
 from salkit.systems.downlooking import disturbance_experiment, extended_run, point_run, terrain_run
 
-from ..conftest import EXAMPLES
-
-EXAMPLE = EXAMPLES / "downlooking_3d.yaml"
-
-
-def scenario(*sets):
-    return load_scenario(EXAMPLE, list(sets))
-
-
-
-
-def _psf_checks(m, d, prefix=""):
-    assert m[prefix + "irw_range_m"] == pytest.approx(0.88589 * d.resolution_x, rel=0.03)
-    assert m[prefix + "irw_azimuth_m"] == pytest.approx(0.88589 * d.resolution_y, rel=0.03)
-    assert m[prefix + "pslr_range_db"] == pytest.approx(-13.26, abs=0.3)
-    assert m[prefix + "pslr_azimuth_db"] == pytest.approx(-13.26, abs=0.3)
-
+from ..conftest import DL_EXAMPLE as EXAMPLE, EXAMPLES, dl_scenario as scenario  # noqa: F401
 
 
 @pytest.mark.parametrize("sa", [0.5e-3, 1.0e-3])
@@ -106,8 +90,6 @@ def test_common_mode_immunity_and_side_looking_degradation():
     assert res["transmitter"]["peak_ratio"] < 0.7
     dr = exp.disturbance.differential_rms
     assert res["differential"]["peak_ratio"] == pytest.approx(math.exp(-dr ** 2 / 2), rel=0.05)
-
-
 
 
 def test_receiver_noise_in_the_image_follows_the_processing_gain():

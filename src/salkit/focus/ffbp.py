@@ -90,6 +90,27 @@ def _plane_point(o, ea, er, cen, r, u):
 
 
 @njit(cache=True, fastmath=True, inline="always")
+def _gather66(G, sub, iu, ir, wu, wr):
+    """Sum of the 6 x 6 neighbourhood of sample (iu, ir) of sub-image ``sub`` with weights wu (angle)
+    and wr (range): float32 (re, im)."""
+    vr = np.float32(0.0)
+    vi = np.float32(0.0)
+    for a in range(6):
+        row = G[sub, iu - 2 + a]
+        rr = np.float32(0.0)
+        ri = np.float32(0.0)
+        for b in range(6):
+            z = row[ir - 2 + b]
+            w = np.float32(wr[b])
+            rr += w * z.real
+            ri += w * z.imag
+        w = np.float32(wu[a])
+        vr += w * rr
+        vi += w * ri
+    return vr, vi
+
+
+@njit(cache=True, fastmath=True, inline="always")
 def _sample(G, sub, u0, du, nu, r0, dr, nr, x0, x1, x2, cen, ea):
     """Interpolate sub-image ``sub`` (baseband) at the plane point x; returns (re, im, r_child)
     or zeros outside its grid."""
@@ -104,22 +125,7 @@ def _sample(G, sub, u0, du, nu, r0, dr, nr, x0, x1, x2, cen, ea):
     ir = int(math.floor(fr))
     if iu < 2 or ir < 2 or iu + 3 >= nu[sub] or ir + 3 >= nr[sub]:
         return np.float32(0.0), np.float32(0.0), rc
-    wu = _lagrange6(fu - iu)
-    wr = _lagrange6(fr - ir)
-    vr = np.float32(0.0)
-    vi = np.float32(0.0)
-    for a in range(6):
-        rr = np.float32(0.0)
-        ri = np.float32(0.0)
-        row = G[sub, iu - 2 + a]
-        for b in range(6):
-            z = row[ir - 2 + b]
-            w = np.float32(wr[b])
-            rr += w * z.real
-            ri += w * z.imag
-        w = np.float32(wu[a])
-        vr += w * rr
-        vi += w * ri
+    vr, vi = _gather66(G, sub, iu, ir, _lagrange6(fu - iu), _lagrange6(fr - ir))
     return vr, vi, rc
 
 
@@ -201,22 +207,7 @@ def _accumulate_child(G, c, u0c, duc, nuc, r0c, nrc, cx, cy, cz, dr_child, ea, X
         ir = ir_b[k]
         if iu < 2 or ir < 2 or iu + 3 >= nuc or ir + 3 >= nrc or X0[k] != X0[k]:
             continue
-        wu = _lagrange6(tu_b[k])
-        wr = _lagrange6(tr_b[k])
-        vr = np.float32(0.0)
-        vi = np.float32(0.0)
-        for a in range(6):
-            row = G[c, iu - 2 + a]
-            rr = np.float32(0.0)
-            ri = np.float32(0.0)
-            for b in range(6):
-                z = row[ir - 2 + b]
-                w = np.float32(wr[b])
-                rr += w * z.real
-                ri += w * z.imag
-            w = np.float32(wu[a])
-            vr += w * rr
-            vi += w * ri
+        vr, vi = _gather66(G, c, iu, ir, _lagrange6(tu_b[k]), _lagrange6(tr_b[k]))
         sn = sn_b[k]
         cs = cs_b[k]
         acc_r[k] += vr * cs - vi * sn
