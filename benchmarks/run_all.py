@@ -27,6 +27,8 @@ same run. Run with ``make bench`` (or ``.venv/bin/python benchmarks/run_all.py``
 - ffbp: fast factorised backprojection against direct backprojection at 512^2, 1024^2 and 4096^2
   pixels (as many pulses), direct BP timed on a block of rows and scaled; ffbp_knobs: the
   accuracy-speed curve over the polar-grid oversampling.
+- scaling: time and peak memory of each stage (simulate, phase history, BP, FFBP, PFA, PGA) at
+  N = 256, 512, 1024 (N x N pixels, N pulses), and the fitted exponent of time ~ N^a.
 
 ``python benchmarks/run_all.py screens`` runs one group.
 """
@@ -501,7 +503,7 @@ def bench_ffbp_knobs(n=512):
     ref_img = backproject(ph, f, pos, ref, plane.points(az, 0 * az), plane.range, rg, np.ones((n, n), np.float32),
                           np.ones(M))
     out = {}
-    for oa, orr in ((2.0, 2.0), (2.5, 2.5), (3.0, 2.5), (3.0, 3.0), (4.0, 4.0)):
+    for oa, orr in ((1.5, 1.5), (1.75, 1.75), (2.0, 1.75), (2.0, 2.0), (2.5, 2.5), (3.0, 3.0)):
         ffbp(ph[:64], f, pos[:64], ref[:64], ImageGrid(plane, az[:32], rg[:32], grid.spec), np.ones(64),
              np.ones(M), oversample_angle=oa, oversample_range=orr)
         t0 = time.perf_counter()
@@ -513,6 +515,62 @@ def bench_ffbp_knobs(n=512):
     return out
 
 
+def _traced(fn):
+    """Wall time (s), peak memory the call allocated through NumPy/Python (bytes, tracemalloc:
+    numba's own scratch arrays inside kernels are not seen) and the result."""
+    import tracemalloc
+    tracemalloc.start()
+    tracemalloc.reset_peak()
+    base = tracemalloc.get_traced_memory()[0]
+    t0 = time.perf_counter()
+    out = fn()
+    dt = time.perf_counter() - t0
+    peak = tracemalloc.get_traced_memory()[1] - base
+    tracemalloc.stop()
+    return dt, peak, out
+
+
+def bench_scaling(sizes=(256, 512, 1024)):
+    """Growth of each stage's cost with size: simulation, phase history, direct BP, FFBP, PFA and
+    PGA on N x N pixels from N pulses (the shared spotlight problem), wall time and peak memory at
+    each N, and the exponent a of time ~ N^a fitted over the sizes (least squares in log-log)."""
+    from salkit.autofocus.pga import pga
+    from salkit.focus import phase_history
+    from salkit.focus.formers import ImageGrid, get_former
+    from salkit.signals.windows import Window
+    from salkit.simulate import simulate
+    times: dict = {}
+    out = {}
+    win = Window("none")
+    for n in sizes:
+        sc, _ = spotlight_problem(n, n)
+        if n == sizes[0]:  # compile every kernel once, untimed
+            raw = simulate(sc)
+            ph = phase_history(raw)
+            grid = ImageGrid.of(ph, sc.processing.grid)
+            for name in ("bp", "ffbp", "pfa"):
+                img = get_former(name)(ph, grid, win).image
+            pga(img, max_iter=2)
+        stages = {}
+        stages["simulate"] = _traced(lambda: simulate(sc))
+        raw = stages["simulate"][2]
+        stages["phase_history"] = _traced(lambda: phase_history(raw))
+        ph = stages["phase_history"][2]
+        grid = ImageGrid.of(ph, sc.processing.grid)
+        for name in ("bp", "ffbp", "pfa"):
+            stages[name] = _traced(lambda: get_former(name)(ph, grid, win))
+        img = stages["bp"][2].image
+        stages["pga_10_iterations"] = _traced(lambda: pga(img, max_iter=10, tol=0.0))
+        for k, (dt, peak, _) in stages.items():
+            times.setdefault(k, []).append(dt)
+            out[f"scaling_{k}_N{n}_s"] = dt
+            out[f"scaling_{k}_N{n}_peak_MiB"] = peak / 2**20
+    x = np.log(np.asarray(sizes, float))
+    for k, ts in times.items():
+        out[f"scaling_{k}_exponent"] = float(np.polyfit(x, np.log(ts), 1)[0])
+    return out
+
+
 def main():
     info = {"machine": platform.processor() or platform.machine(), "cpus": os.cpu_count(),
             "python": platform.python_version(), "numpy": np.__version__}
@@ -521,7 +579,8 @@ def main():
     for name, fn in (("backprojection", bench_backprojection), ("pfa", bench_pfa), ("simulation", bench_simulation),
                      ("screens", bench_screens), ("pga", bench_pga), ("chirp", bench_chirp),
                      ("spaceborne", bench_spaceborne), ("downlooking", bench_downlooking), ("outside", bench_outside),
-                     ("startup", bench_startup), ("ffbp", bench_ffbp), ("ffbp_knobs", bench_ffbp_knobs)):
+                     ("startup", bench_startup), ("ffbp", bench_ffbp), ("ffbp_knobs", bench_ffbp_knobs),
+                     ("scaling", bench_scaling)):
         if only and name not in only:
             continue
         t0 = time.perf_counter()

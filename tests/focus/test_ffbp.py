@@ -67,3 +67,38 @@ def test_stripmap_refused():
     sc = parse_scenario(STRIP)
     with pytest.raises(ScenarioError, match="ffbp"):
         focus(simulate(sc), sc.processing, algorithm="ffbp")
+
+
+def _bandlimited(os, n=2048, seed=0):
+    """Samples of a random signal flat in |f| < 1/(2 os) cycles/sample, and an exact evaluator."""
+    rng = np.random.default_rng(seed)
+    f = (np.arange(n) / n - 0.5) / os
+    a = rng.standard_normal(n) + 1j * rng.standard_normal(n)
+    at = lambda x: np.exp(2j * np.pi * np.outer(x, f)) @ a  # noqa: E731
+    return at(np.arange(64, dtype=float)), at
+
+
+@pytest.mark.parametrize("taps, os, limit_db, gain_db", [(6, 1.75, -47.0, 12.0), (8, 1.75, -60.0, 12.0),
+                                                         (4, 4.0, -60.0, 6.0)])
+def test_interpolation_table_error_on_band_limited_signals(taps, os, limit_db, gain_db):
+    """The least-squares kernel interpolates a band-limited signal to its design accuracy (flat
+    spectrum: -50, -64 and -70 dB expected), far better than Lagrange at the same taps."""
+    from salkit.focus.ffbp import interpolation_table
+    s, at = _bandlimited(os)
+    W = interpolation_table(taps, os)
+    x = np.random.default_rng(1).uniform(taps, 64 - taps, 400)
+    i0 = np.floor(x).astype(int)
+    t = x - i0
+    offs = np.arange(-(taps // 2 - 1), taps // 2 + 1)
+    est = np.sum(W[np.rint(t * (W.shape[0] - 1)).astype(int)] * s[i0[:, None] + offs], axis=1)
+    truth = at(x)
+    err = 10 * np.log10(np.sum(np.abs(est - truth) ** 2) / np.sum(np.abs(truth) ** 2))
+    assert err < limit_db
+    lag = np.ones((t.size, taps))
+    for i, oi in enumerate(offs):
+        for j, oj in enumerate(offs):
+            if i != j:
+                lag[:, i] *= (t - oj) / (oi - oj)
+    err_lag = 10 * np.log10(np.sum(np.abs(np.sum(lag * s[i0[:, None] + offs], axis=1) - truth) ** 2)
+                            / np.sum(np.abs(truth) ** 2))
+    assert err < err_lag - gain_db

@@ -163,13 +163,18 @@ def range_profiles(ph: np.ndarray, freq: np.ndarray, upsample: int, range_window
     P, M = ph.shape
     df = float(freq[1] - freq[0])
     nfft = sfft.next_fast_len(int(M * upsample))
+    h = M // 2
+    # sample m goes to bin k = (m - h) mod nfft; the ramp exp(-j 2 pi k s / nfft), s = nfft // 2,
+    # does the fftshift inside the transform (no scatter with an index array, no shifted copy)
+    k = (np.arange(M) - h) % nfft
+    ramp = (np.exp(-2j * np.pi * ((k * (nfft // 2)) % nfft) / nfft) * range_window).astype(np.complex64)
     buf = np.zeros((P, nfft), np.complex64)
-    idx = (np.arange(M) - M // 2) % nfft
-    buf[:, idx] = ph * range_window[None, :].astype(np.float32)
-    prof = sfft.fftshift(sfft.ifft(buf, axis=1, workers=WORKERS, norm="forward"), axes=1)
+    np.multiply(ph[:, h:], ramp[h:], out=buf[:, :M - h])
+    np.multiply(ph[:, :h], ramp[:h], out=buf[:, nfft - h:])
+    prof = sfft.ifft(buf, axis=1, workers=WORKERS, norm="forward", overwrite_x=True)
     dr = SPEED_OF_LIGHT / (2.0 * df * nfft)
     r0 = -(nfft // 2) * dr
-    return prof.astype(np.complex64), r0, dr, float(freq[M // 2])
+    return prof.astype(np.complex64, copy=False), r0, dr, float(freq[M // 2])
 
 
 def backproject(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.ndarray,

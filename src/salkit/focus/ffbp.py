@@ -15,9 +15,15 @@ k (|x - c_child| - |x - c_parent|) is put back exactly, in float64, at every mer
 plane is found from (r, u) in closed form, so the antenna may follow any trajectory; the polar
 grids of each level are sized from the image's extent as seen from each sub-aperture centre.
 
+Interpolation: least-squares optimal kernels (``interpolation_table``) designed for each grid's
+oversampling, 8 taps in angle and 6 in range, 4 taps on the leaves' range profiles. Each merge
+interpolates separably: the parent's line of points crosses the child's range bins in order, so
+the child is first cut along the line in angle at its own range bins, then the cut is
+interpolated in range (14 taps instead of 48).
+
 Accuracy knobs: ``oversample_angle`` and ``oversample_range`` (samples per Nyquist interval of
-the polar grids, with 4-point Lagrange interpolation) and ``leaf`` (pulses backprojected directly
-into each first-level sub-image). docs/performance.md gives the accuracy-speed curve.
+the polar grids) and ``leaf`` (pulses backprojected directly into each first-level sub-image).
+docs/performance.md gives the accuracy-speed curve.
 """
 from __future__ import annotations
 
@@ -35,32 +41,62 @@ from .phasehistory import PhaseHistory
 
 #: Default accuracy settings (image error about -40 dB against direct backprojection).
 LEAF_PULSES = 16
-OVERSAMPLE_ANGLE = 3.0
-OVERSAMPLE_RANGE = 2.5
-#: Range-profile upsampling of the first level over the one asked of direct backprojection.
-LEAF_UPSAMPLE_FACTOR = 1
-MARGIN = 3  # samples kept outside the image's extent on each side of a polar grid
+OVERSAMPLE_ANGLE = 1.75
+OVERSAMPLE_RANGE = 1.75
+#: Range-profile oversampling of the first level (4-tap table interpolation).
+LEAF_UPSAMPLE = 4
+#: Taps of the angular interpolation (the range one has 6).
+ANGLE_TAPS = 8
+MARGIN = 4  # samples kept outside the image's extent on each side of a polar grid
+
+
+#: Fractional positions tabulated per interpolation kernel (nearest entry: a position error of
+#: 1/4096 sample, a phase error below 5e-4 rad at the band edge).
+TABLE_STEPS = 2048
+
+
+def interpolation_table(taps: int, oversample: float, steps: int = TABLE_STEPS) -> np.ndarray:
+    """Least-squares optimal interpolation weights for a signal band-limited to 1/oversample of
+    the sampling rate.
+
+    For each fraction t in [0, 1] the ``taps`` weights minimise the error of interpolating
+    exp(j 2 pi f t) over the band |f| <= 1 / (2 oversample) cycles per sample, flat weighting:
+    the normal equations of that fit are a Toeplitz system of sinc functions. At the same
+    oversampling this kernel is 10 to 20 dB better than Lagrange interpolation (6 taps at 1.75x:
+    -50 dB against -33 dB, for a flat spectrum).
+
+    Parameters
+    ----------
+    taps : int
+        Even number of samples, at offsets -(taps/2 - 1) .. taps/2 from the sample below t.
+    oversample : float
+        Sampling rate over the signal's bandwidth, > 1.
+    steps : int
+        Table entries per sample interval.
+
+    Returns
+    -------
+    float32 (steps + 1, taps)
+        Weights; row i is for t = i / steps.
+
+    Examples
+    --------
+    >>> w = interpolation_table(6, 1.75)
+    >>> w.shape, bool(abs(w[0, 2] - 1.0) < 1e-6), bool(abs(w[-1, 3] - 1.0) < 1e-6)
+    ((2049, 6), True, True)
+    """
+    offs = np.arange(-(taps // 2 - 1), taps // 2 + 1, dtype=np.float64)
+    band = 1.0 / oversample  # two-sided bandwidth, cycles per sample
+    A = band * np.sinc(band * (offs[:, None] - offs[None, :]))
+    t = np.arange(steps + 1) / steps
+    rhs = band * np.sinc(band * (t[:, None] - offs[None, :]))
+    return np.linalg.solve(A, rhs.T).T.astype(np.float32)
 
 
 @njit(cache=True, inline="always", fastmath=True)
-def _lagrange4(t):
-    """Weights of samples -1, 0, 1, 2 for cubic Lagrange interpolation at 0 <= t < 1."""
-    tm1 = t - 1.0
-    tm2 = t - 2.0
-    tp1 = t + 1.0
-    return (-t * tm1 * tm2 / 6.0, tp1 * tm1 * tm2 / 2.0, -tp1 * t * tm2 / 2.0, tp1 * t * tm1 / 6.0)
-
-
-@njit(cache=True, inline="always", fastmath=True)
-def _lagrange6(t):
-    """Weights of samples -2 .. 3 for quintic Lagrange interpolation at 0 <= t < 1."""
-    a = t + 2.0
-    b = t + 1.0
-    c = t - 1.0
-    d = t - 2.0
-    e = t - 3.0
-    return (-t * b * c * d * e / 120.0, a * t * c * d * e / 24.0, -a * b * c * d * e / 12.0,
-            a * b * t * d * e / 12.0, -a * b * t * c * e / 24.0, a * b * t * c * d / 120.0)
+def _row(table, t):
+    """Index of the table row for fraction t in [0, 1]."""
+    return int(t * (table.shape[0] - 1) + 0.5)
 
 
 @njit(cache=True, inline="always", fastmath=True)
@@ -89,51 +125,57 @@ def _plane_point(o, ea, er, cen, r, u):
     return o[0] + s * ea[0] + t * er[0], o[1] + s * ea[1] + t * er[1], o[2] + s * ea[2] + t * er[2]
 
 
-@njit(cache=True, fastmath=True, inline="always")
-def _gather66(G, sub, iu, ir, wu, wr):
-    """Sum of the 6 x 6 neighbourhood of sample (iu, ir) of sub-image ``sub`` with weights wu (angle)
-    and wr (range): float32 (re, im)."""
-    vr = np.float32(0.0)
-    vi = np.float32(0.0)
-    for a in range(6):
-        row = G[sub, iu - 2 + a]
-        rr = np.float32(0.0)
-        ri = np.float32(0.0)
-        for b in range(6):
-            z = row[ir - 2 + b]
-            w = np.float32(wr[b])
-            rr += w * z.real
-            ri += w * z.imag
-        w = np.float32(wu[a])
-        vr += w * rr
-        vi += w * ri
-    return vr, vi
-
-
-@njit(cache=True, fastmath=True, inline="always")
-def _sample(G, sub, u0, du, nu, r0, dr, nr, x0, x1, x2, cen, ea):
-    """Interpolate sub-image ``sub`` (baseband) at the plane point x; returns (re, im, r_child)
-    or zeros outside its grid."""
-    e0 = x0 - cen[sub, 0]
-    e1 = x1 - cen[sub, 1]
-    e2 = x2 - cen[sub, 2]
-    rc = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
-    uc = (e0 * ea[0] + e1 * ea[1] + e2 * ea[2]) / rc
-    fu = (uc - u0[sub]) / du[sub]
-    fr = (rc - r0[sub]) / dr
-    iu = int(math.floor(fu))
-    ir = int(math.floor(fr))
-    if iu < 2 or ir < 2 or iu + 3 >= nu[sub] or ir + 3 >= nr[sub]:
-        return np.float32(0.0), np.float32(0.0), rc
-    vr, vi = _gather66(G, sub, iu, ir, _lagrange6(fu - iu), _lagrange6(fr - ir))
-    return vr, vi, rc
+@njit(cache=True, fastmath=True, boundscheck=False)
+def _leaf_line(prof, rp0, inv_drp, hi, pos, ref, weight, first, count, X0, X1, X2, r_line, cyc_per_m, tp,
+               acc_r, acc_i, idx_b, row_b, sn_b, cs_b):
+    """Backproject a leaf's pulses onto one polar line of points (baseband), two passes per
+    pulse: range, profile index, table row and phase for the whole line (vectorises); then the
+    4-tap gathers."""
+    n = X0.shape[0]
+    T = tp.shape[0] - 1
+    for p in range(first, first + count):
+        px = pos[p, 0]
+        py = pos[p, 1]
+        pz = pos[p, 2]
+        rp = ref[p] + rp0
+        wp = weight[p]
+        for k in range(n):
+            e0 = X0[k] - px
+            e1 = X1[k] - py
+            e2 = X2[k] - pz
+            R = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
+            xi = (R - rp) * inv_drp
+            ok = (xi >= 1.0) & (xi <= hi)
+            xi = min(max(xi, 1.0), hi)
+            fl = math.floor(xi)
+            idx_b[k] = np.int32(fl)
+            row_b[k] = np.int32((xi - fl) * T + 0.5)
+            cyc = (R - r_line[k] - ref[p]) * cyc_per_m
+            y = np.float32(cyc - math.floor(cyc + 0.5))
+            s, c = _sincos_cycles(y)
+            g = np.float32(ok) * wp
+            sn_b[k] = s * g
+            cs_b[k] = c * g
+        for k in range(n):
+            i0 = idx_b[k] - 1
+            w = tp[row_b[k]]
+            vr = np.float32(0.0)
+            vi = np.float32(0.0)
+            for b in range(4):
+                z = prof[p, i0 + b]
+                vr += w[b] * z.real
+                vi += w[b] * z.imag
+            s = sn_b[k]
+            c = cs_b[k]
+            acc_r[k] += vr * c - vi * s
+            acc_i[k] += vr * s + vi * c
 
 
 @njit(parallel=True, cache=True, fastmath=True)
 def _leaf_kernel(prof, rp0, inv_drp, pos, ref, weight, first, count, cen, o, ea, er,
-                 u0, du, nu, r0, dr, nr, cyc_per_m, out):
-    """Backproject each leaf's pulses onto its polar grid, at baseband (cubic interpolation of the
-    range profiles)."""
+                 u0, du, nu, r0, dr, nr, cyc_per_m, tp, out):
+    """Backproject each leaf's pulses onto its polar grid, at baseband (4-tap table interpolation
+    of the oversampled range profiles)."""
     S, NU, NR = out.shape
     hi = prof.shape[1] - 3.0
     for job in prange(S * NU):
@@ -141,73 +183,134 @@ def _leaf_kernel(prof, rp0, inv_drp, pos, ref, weight, first, count, cen, o, ea,
         iu = job % NU
         if iu >= nu[s]:
             continue
+        n = nr[s]
         u = u0[s] + iu * du[s]
-        for ir in range(nr[s]):
+        X0 = np.empty(n)
+        X1 = np.empty(n)
+        X2 = np.empty(n)
+        rl = np.empty(n)
+        lo = n
+        top = -1
+        for ir in range(n):
             r = r0[s] + ir * dr
-            x0, x1, x2 = _plane_point(o, ea, er, cen[s], r, u)
-            if x0 != x0:
-                continue
-            acc_r = np.float32(0.0)
-            acc_i = np.float32(0.0)
-            for p in range(first[s], first[s] + count[s]):
-                e0 = x0 - pos[p, 0]
-                e1 = x1 - pos[p, 1]
-                e2 = x2 - pos[p, 2]
-                R = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
-                xi = (R - ref[p] - rp0) * inv_drp
-                if xi < 1.0 or xi > hi:
-                    continue
-                i0 = int(xi)
-                w = _lagrange4(xi - i0)
-                vr = np.float32(0.0)
-                vi = np.float32(0.0)
-                for b in range(4):
-                    z = prof[p, i0 - 1 + b]
-                    wb = np.float32(w[b])
-                    vr += wb * z.real
-                    vi += wb * z.imag
-                vr, vi = _rotate(vr * weight[p], vi * weight[p], (R - r - ref[p]) * cyc_per_m)
-                acc_r += vr
-                acc_i += vi
-            out[s, iu, ir] = complex(acc_r, acc_i)
+            rl[ir] = r
+            X0[ir], X1[ir], X2[ir] = _plane_point(o, ea, er, cen[s], r, u)
+            if X0[ir] == X0[ir]:
+                lo = min(lo, ir)
+                top = ir
+        if top < lo:
+            continue
+        m = top + 1 - lo
+        acc_r = np.zeros(m, np.float32)
+        acc_i = np.zeros(m, np.float32)
+        _leaf_line(prof, rp0, inv_drp, hi, pos, ref, weight, first[s], count[s], X0[lo:top + 1], X1[lo:top + 1],
+                   X2[lo:top + 1], rl[lo:top + 1], cyc_per_m, tp, acc_r, acc_i, np.empty(m, np.int32),
+                   np.empty(m, np.int32), np.empty(m, np.float32), np.empty(m, np.float32))
+        for k in range(m):
+            out[s, iu, lo + k] = complex(acc_r[k], acc_i[k])
 
 
 @njit(cache=True, fastmath=True, boundscheck=False)
 def _accumulate_child(G, c, u0c, duc, nuc, r0c, nrc, cx, cy, cz, dr_child, ea, X0, X1, X2, r_line, cyc_per_m,
-                      acc_r, acc_i, iu_b, ir_b, tu_b, tr_b, sn_b, cs_b):
+                      tu, tr, acc_r, acc_i, fr_b, uc_b, sn_b, cs_b, h_r, h_i, uj_b, s_b):
     """Add child ``c`` (baseband, interpolated, phase restored) along one parent line of points.
 
-    Pass 1 works on whole arrays with no gathers, so it vectorises: child coordinates, the
-    interpolation indices and fractions, and the phase k (r_c - r) as float32 sin/cos after a
-    float64 reduction. Pass 2 gathers the 6 x 6 neighbourhood of each point."""
+    The parent line crosses the child's range bins in order, so the 2-D interpolation separates
+    (12 taps instead of 36): pass 1 finds, for every point, the child range bin (fraction) and
+    direction cosine, and the phase k (r_c - r) as float32 sin/cos after a float64 reduction;
+    pass 2 interpolates the child in angle at each of its own range bins the line crosses, at the
+    line's direction cosine there (linear in the bin between points: its curvature is
+    d (1 - u^2) / r^3, far below a sample); pass 3 interpolates that 1-D cut in range at every
+    point. Points are assumed valid (the caller trims the line to its points in the plane).
+    """
     n = X0.shape[0]
-    inv_du = 1.0 / duc
     inv_dr = 1.0 / dr_child
+    T = tr.shape[0] - 1
     for k in range(n):
         e0 = X0[k] - cx
         e1 = X1[k] - cy
         e2 = X2[k] - cz
         rc = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
-        uc = (e0 * ea[0] + e1 * ea[1] + e2 * ea[2]) / rc
-        fu = (uc - u0c) * inv_du
-        fr = (rc - r0c) * inv_dr
-        fu_f = math.floor(fu)
-        fr_f = math.floor(fr)
-        iu_b[k] = np.int32(fu_f)
-        ir_b[k] = np.int32(fr_f)
-        tu_b[k] = np.float32(fu - fu_f)
-        tr_b[k] = np.float32(fr - fr_f)
+        fr_b[k] = (rc - r0c) * inv_dr
+        uc_b[k] = (e0 * ea[0] + e1 * ea[1] + e2 * ea[2]) / rc
         cyc = (rc - r_line[k]) * cyc_per_m
         y = np.float32(cyc - math.floor(cyc + 0.5))
         sn, cs = _sincos_cycles(y)
         sn_b[k] = sn
         cs_b[k] = cs
+    if n < 2:
+        return
+    # pass 2: the child cut along the line, on the child's range bins j_lo .. j_hi
+    j_lo = max(int(math.floor(fr_b[0])) - 2, 0)
+    j_hi = min(int(math.floor(fr_b[n - 1])) + 3, nrc - 1)
+    if j_hi < j_lo:
+        return
+    inv_du = 1.0 / duc
+    na = tu.shape[1]
+    ha = na // 2 - 1
+    k = 0
+    j = j_lo
+    while j <= j_hi:  # the angle index at each crossed bin, linear between points
+        f0 = fr_b[k]
+        slope = (uc_b[k + 1] - uc_b[k]) / (fr_b[k + 1] - f0)
+        j_end = j_hi if k + 2 >= n else min(int(math.floor(fr_b[k + 1])), j_hi)
+        while j <= j_end:
+            uj_b[j - j_lo] = (uc_b[k] + slope * (j - f0) - u0c) * inv_du
+            j += 1
+        k += 1
+    # the angular interpolation in segments of one angle index where the fraction moves by at
+    # most 1/32 sample: weights linear in the fraction between the segment's ends (error below
+    # -70 dB), so the inner loops run along contiguous rows and vectorise
+    j = j_lo
+    while j <= j_hi:
+        f0 = uj_b[j - j_lo]
+        iu = int(math.floor(f0))
+        e = j
+        while e < j_hi and e - j < 512:
+            f1 = uj_b[e + 1 - j_lo]
+            if int(math.floor(f1)) != iu or abs(f1 - f0) > 0.03125:
+                break
+            e += 1
+        m = e + 1 - j
+        b0 = j - j_lo
+        if iu < ha or iu + na - ha > nuc:
+            for q in range(m):
+                h_r[b0 + q] = np.float32(0.0)
+                h_i[b0 + q] = np.float32(0.0)
+        else:
+            t0 = f0 - iu
+            t1 = uj_b[e - j_lo] - iu
+            i0 = int(t0 * T + 0.5)
+            i1 = int(t1 * T + 0.5)
+            inv = 1.0 / (t1 - t0) if t1 != t0 else 0.0
+            for q in range(m):
+                s_b[q] = np.float32((uj_b[b0 + q] - iu - t0) * inv)
+                h_r[b0 + q] = np.float32(0.0)
+                h_i[b0 + q] = np.float32(0.0)
+            for a in range(na):
+                ra = iu - ha + a
+                wa = tu[i0, a]
+                dwa = tu[i1, a] - wa
+                for q in range(m):
+                    z = G[c, ra, j + q]
+                    w = wa + dwa * s_b[q]
+                    h_r[b0 + q] += w * z.real
+                    h_i[b0 + q] += w * z.imag
+        j = e + 1
+    # pass 3: range interpolation of the cut at every point, phase restored
     for k in range(n):
-        iu = iu_b[k]
-        ir = ir_b[k]
-        if iu < 2 or ir < 2 or iu + 3 >= nuc or ir + 3 >= nrc or X0[k] != X0[k]:
+        fr = fr_b[k]
+        fr_f = math.floor(fr)
+        ir = int(fr_f)
+        if ir - 2 < j_lo or ir + 3 > j_hi:
             continue
-        vr, vi = _gather66(G, c, iu, ir, _lagrange6(tu_b[k]), _lagrange6(tr_b[k]))
+        it = int((fr - fr_f) * T + 0.5)
+        b0 = ir - 2 - j_lo
+        vr = np.float32(0.0)
+        vi = np.float32(0.0)
+        for b in range(6):
+            vr += tr[it, b] * h_r[b0 + b]
+            vi += tr[it, b] * h_i[b0 + b]
         sn = sn_b[k]
         cs = cs_b[k]
         acc_r[k] += vr * cs - vi * sn
@@ -216,7 +319,7 @@ def _accumulate_child(G, c, u0c, duc, nuc, r0c, nrc, cx, cy, cz, dr_child, ea, X
 
 @njit(parallel=True, cache=True, fastmath=True)
 def _merge_kernel(G, cu0, cdu, cnu, cr0, cnr, ccen, dr_child, factor, o, ea, er, cen, u0, du, nu, r0, dr, nr,
-                  cyc_per_m, out):
+                  cyc_per_m, tu, tr, out):
     """Merge ``factor`` consecutive child sub-images into each parent's polar grid."""
     S, NU, NR = out.shape
     n_child = G.shape[0]
@@ -231,30 +334,44 @@ def _merge_kernel(G, cu0, cdu, cnu, cr0, cnr, ccen, dr_child, factor, o, ea, er,
         X1 = np.empty(n)
         X2 = np.empty(n)
         rl = np.empty(n)
+        lo = n
+        top = -1
         for ir in range(n):
             r = r0[s] + ir * dr
             rl[ir] = r
             X0[ir], X1[ir], X2[ir] = _plane_point(o, ea, er, cen[s], r, u)
-        acc_r = np.zeros(n, np.float32)
-        acc_i = np.zeros(n, np.float32)
-        iu_b = np.empty(n, np.int32)
-        ir_b = np.empty(n, np.int32)
-        tu_b = np.empty(n, np.float32)
-        tr_b = np.empty(n, np.float32)
-        sn_b = np.empty(n, np.float32)
-        cs_b = np.empty(n, np.float32)
+            if X0[ir] == X0[ir]:
+                lo = min(lo, ir)
+                top = ir
+        if top < lo:
+            continue
+        m = top + 1 - lo
+        acc_r = np.zeros(m, np.float32)
+        acc_i = np.zeros(m, np.float32)
+        fr_b = np.empty(m)
+        uc_b = np.empty(m)
+        sn_b = np.empty(m, np.float32)
+        cs_b = np.empty(m, np.float32)
+        h_r = np.empty(G.shape[2], np.float32)
+        h_i = np.empty(G.shape[2], np.float32)
+        uj_b = np.empty(G.shape[2])
+        s_b = np.empty(G.shape[2], np.float32)
         for c in range(s * factor, min(s * factor + factor, n_child)):
             _accumulate_child(G, c, cu0[c], cdu[c], cnu[c], cr0[c], cnr[c], ccen[c, 0], ccen[c, 1], ccen[c, 2],
-                              dr_child, ea, X0, X1, X2, rl, cyc_per_m, acc_r, acc_i, iu_b, ir_b, tu_b, tr_b,
-                              sn_b, cs_b)
-        for ir in range(n):
-            out[s, iu, ir] = complex(acc_r[ir], acc_i[ir])
+                              dr_child, ea, X0[lo:top + 1], X1[lo:top + 1], X2[lo:top + 1], rl[lo:top + 1],
+                              cyc_per_m, tu, tr, acc_r, acc_i, fr_b, uc_b, sn_b, cs_b, h_r, h_i, uj_b, s_b)
+        for k in range(m):
+            out[s, iu, lo + k] = complex(acc_r[k], acc_i[k])
 
 
 @njit(parallel=True, cache=True, fastmath=True)
-def _final_kernel(G, cu0, cdu, cnu, cr0, cnr, ccen, dr_child, o, ea, er, az, rg, cyc_per_m, out):
-    """Every remaining sub-image interpolated onto the output grid, its phase k |x - c| restored."""
+def _final_kernel(G, cu0, cdu, cnu, cr0, cnr, ccen, dr_child, o, ea, er, az, rg, cyc_per_m, tu, tr, out):
+    """Every remaining sub-image interpolated onto the output grid (6 x 6 table weights), its
+    phase k |x - c| restored."""
     nx, ny = out.shape
+    T = tr.shape[0] - 1
+    na = tu.shape[1]
+    ha = na // 2 - 1
     for i in prange(nx):
         for j in range(ny):
             x0 = o[0] + az[i] * ea[0] + rg[j] * er[0]
@@ -263,7 +380,29 @@ def _final_kernel(G, cu0, cdu, cnu, cr0, cnr, ccen, dr_child, o, ea, er, az, rg,
             acc_r = np.float32(0.0)
             acc_i = np.float32(0.0)
             for c in range(G.shape[0]):
-                vr, vi, rc = _sample(G, c, cu0, cdu, cnu, cr0, dr_child, cnr, x0, x1, x2, ccen, ea)
+                e0 = x0 - ccen[c, 0]
+                e1 = x1 - ccen[c, 1]
+                e2 = x2 - ccen[c, 2]
+                rc = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
+                fu = ((e0 * ea[0] + e1 * ea[1] + e2 * ea[2]) / rc - cu0[c]) / cdu[c]
+                fr = (rc - cr0[c]) / dr_child
+                iu = int(math.floor(fu))
+                ir = int(math.floor(fr))
+                if iu < ha or ir < 2 or iu + na - ha > cnu[c] or ir + 3 >= cnr[c]:
+                    continue
+                wu = tu[int((fu - iu) * T + 0.5)]
+                wr = tr[int((fr - ir) * T + 0.5)]
+                vr = np.float32(0.0)
+                vi = np.float32(0.0)
+                for a in range(na):
+                    rr = np.float32(0.0)
+                    ri = np.float32(0.0)
+                    for b in range(6):
+                        z = G[c, iu - ha + a, ir - 2 + b]
+                        rr += wr[b] * z.real
+                        ri += wr[b] * z.imag
+                    vr += wu[a] * rr
+                    vi += wu[a] * ri
                 vr, vi = _rotate(vr, vi, rc * cyc_per_m)
                 acc_r += vr
                 acc_i += vi
@@ -327,7 +466,7 @@ def _lengths(positions: np.ndarray, groups: list, centres: np.ndarray, ea: np.nd
 
 
 def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.ndarray, grid: ImageGrid,
-         azimuth_window: np.ndarray, range_window: np.ndarray, upsample: int = 8, leaf: int = LEAF_PULSES,
+         azimuth_window: np.ndarray, range_window: np.ndarray, upsample: int = LEAF_UPSAMPLE, leaf: int = LEAF_PULSES,
          factor: int = 2, oversample_angle: float = OVERSAMPLE_ANGLE, oversample_range: float = OVERSAMPLE_RANGE,
          progress=None) -> tuple[np.ndarray, dict]:
     """Fast factorised backprojection onto ``grid``, unnormalised (as direct backprojection).
@@ -347,7 +486,7 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
         Per-pulse weights.
     range_window : float (M,)
     upsample : int
-        Range-profile upsampling for the first level.
+        Range-profile oversampling for the first level (its 4-tap kernel is designed for it).
     leaf : int
         Pulses per first-level sub-image.
     factor : int
@@ -374,7 +513,10 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     ea = np.ascontiguousarray(plane.azimuth, np.float64)
     er = np.ascontiguousarray(plane.range, np.float64)
     step = float(np.median(np.linalg.norm(np.diff(positions, axis=0), axis=1))) if P > 1 else 0.0
-    prof, rp0, drp, _ = range_profiles(ph, freq, upsample * LEAF_UPSAMPLE_FACTOR, np.asarray(range_window, np.float64))
+    prof, rp0, drp, _ = range_profiles(ph, freq, upsample, np.asarray(range_window, np.float64))
+    tp = interpolation_table(4, prof.shape[1] / M)
+    tu = interpolation_table(ANGLE_TAPS, oversample_angle)
+    tr = interpolation_table(6, oversample_range)
     w = np.asarray(azimuth_window, np.float32)
     # level 0: leaves of `leaf` pulses
     groups = [(a, min(a + leaf, P)) for a in range(0, P, leaf)]
@@ -388,7 +530,7 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     first = np.array([a for a, _ in groups], np.int64)
     count = np.array([b - a for a, b in groups], np.int64)
     _leaf_kernel(prof, rp0, 1.0 / drp, positions, ref_range, w, first, count, centres, o, ea, er,
-                 u0, du, nu, r0, dr, nr, cyc_per_m, G)
+                 u0, du, nu, r0, dr, nr, cyc_per_m, tp, G)
     samples = [int((nu * nr).sum())]
     done += 1
     if progress:
@@ -405,7 +547,7 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
         pu0, pdu, pnu, pr0, pnr = _polar_grids(pcen, plen, grid, lam_min, dr, oversample_angle)
         out = np.zeros((len(parents), int(pnu.max()), int(pnr.max())), np.complex64)
         _merge_kernel(G, u0, du, nu, r0, nr, centres, dr, factor, o, ea, er, pcen, pu0, pdu, pnu, pr0, dr, pnr,
-                      cyc_per_m, out)
+                      cyc_per_m, tu, tr, out)
         G, centres, weights = out, pcen, pw
         u0, du, nu, r0, nr = pu0, pdu, pnu, pr0, pnr
         samples.append(int((nu * nr).sum()))
@@ -414,7 +556,7 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
             progress(done, n_levels)
     img = np.zeros((grid.azimuth.size, grid.range.size), np.complex64)
     _final_kernel(G, u0, du, nu, r0, nr, centres, dr, o, ea, er, np.asarray(grid.azimuth, np.float64),
-                  np.asarray(grid.range, np.float64), cyc_per_m, img)
+                  np.asarray(grid.range, np.float64), cyc_per_m, tu, tr, img)
     done += 1
     if progress:
         progress(done, done)
@@ -434,7 +576,8 @@ def form_ffbp(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: in
     window : Window
         Over the pulses and in range.
     upsample : int
-        Range-profile upsampling of the first level.
+        Range-profile upsampling of the first level, at most ``LEAF_UPSAMPLE`` (its 4-tap
+        least-squares kernel is exact to -70 dB there).
     progress : callable, optional
         ``progress(done, total)`` in levels.
 
@@ -453,8 +596,8 @@ def form_ffbp(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: in
     P, M = ph.data.shape
     wa = window(P)
     wr = window(M)
-    img, info = ffbp(ph.data, ph.freq, ph.positions, ph.reference_range, grid, wa, wr, upsample=upsample,
-                     progress=progress)
+    img, info = ffbp(ph.data, ph.freq, ph.positions, ph.reference_range, grid, wa, wr,
+                     upsample=min(upsample, LEAF_UPSAMPLE), progress=progress)
     norm = max(float(wa.sum()), 1e-30) * float(wr.sum())
     info.update({"support_azimuth": P, "support_range": M})
     return ImageResult((img / norm).astype(np.complex64), info)
