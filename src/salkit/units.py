@@ -1,0 +1,126 @@
+"""Units of salkit's named quantities, and their display.
+
+Metric and parameter names carry their SI unit as a suffix (``irw_range_m``, ``pslr_azimuth_db``,
+``t_focus_s``); a few older names do not (the sampling report, the down-looking design) and are
+listed in :data:`NAMED`. :func:`unit_of` gives the unit of any name, :func:`display` a value rounded
+to its meaning with a unit a person reads (lengths in km, m, cm, mm, um or nm).
+"""
+from __future__ import annotations
+
+import math
+
+#: Suffixes and their units, longest first (the first that matches wins).
+SUFFIXES: tuple[tuple[str, str], ...] = (
+    ("_m_s", "m/s"), ("_per_s", "1/s"), ("_rad_m2", "rad/m^2"), ("_hz_m", "Hz/m"), ("_db", "dB"),
+    ("_rad", "rad"), ("_deg", "deg"), ("_mhz", "MHz"), ("_hz", "Hz"), ("_m2", "m^2"), ("_m", "m"),
+    ("_s", "s"), ("_w", "W"), ("_j", "J"), ("_bytes", "B"), ("_mib", "MiB"), ("_pct", "%"),
+    ("_cn2", "m^(-2/3)"),
+)
+
+#: Names without a unit suffix: the sampling report (``sampling_*``), the down-looking design, and
+#: dimensionless quantities whose names would otherwise look like a suffix.
+NAMED: dict[str, str] = {
+    "doppler_bandwidth": "Hz", "prf": "Hz", "beat_bandwidth": "Hz", "adc_rate": "Hz", "gate": "s",
+    "delay_min": "s", "delay_max": "s", "resolution_range": "m", "resolution_azimuth": "m", "footprint": "m",
+    "wavelength": "m", "magnification": "", "range": "m", "spot_x": "m", "spot_y": "m", "scan_factor": "",
+    "xi_per_m": "Hz/m", "along_chirp": "rad/m^2", "resolution_x": "m", "resolution_y": "m",
+    "width_x_eq23": "m", "width_y_eq22": "m", "irw_x": "m", "irw_y": "m", "fringe_period_xi": "Hz",
+    "fringe_period_x": "m", "beat_min": "Hz", "beat_max": "Hz", "samples": "", "sample_rate": "Hz",
+    "nyquist_spacing_y": "m", "lens_width_forward": "m", "lens_width_backward": "m",
+    "lens_width_paper_forward": "m", "lens_width_paper_backward": "m", "transmit_pupil_diameter": "m",
+    "coupling_length": "m", "wavelength_derived": "",
+}
+
+_LENGTHS = ((1e3, "km"), (1.0, "m"), (1e-2, "cm"), (1e-3, "mm"), (1e-6, "um"), (1e-9, "nm"))
+
+
+def unit_of(name: str) -> str:
+    """The unit of a metric or parameter name ("" when dimensionless or unknown).
+
+    Parameters
+    ----------
+    name : str
+        A key of ``metrics.json`` or of a report (``sampling_`` prefixes are looked through).
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> unit_of("irw_range_theory_m"), unit_of("pslr_azimuth_db"), unit_of("sampling_prf")
+    ('m', 'dB', 'Hz')
+    >>> unit_of("lens_forward_min_m"), unit_of("stack_count")
+    ('m', '')
+    """
+    key = name.lower()
+    for prefix in ("sampling_", "design_"):
+        if key.startswith(prefix) and key[len(prefix):] in NAMED:
+            return NAMED[key[len(prefix):]]
+    if key in NAMED:
+        return NAMED[key]
+    for suffix, unit in SUFFIXES:
+        if key.endswith(suffix):
+            return unit
+    return ""
+
+
+def round_sig(x: float, digits: int = 4) -> str:
+    """``x`` to ``digits`` significant digits, without exponent between 1e-3 and 1e6.
+
+    Parameters
+    ----------
+    x : float
+    digits : int
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> round_sig(0.017971234), round_sig(123456.7), round_sig(3.2e-9), round_sig(0.0)
+    ('0.01797', '123457', '3.2e-09', '0')
+    """
+    if x == 0 or not math.isfinite(x):
+        return str(x) if not math.isfinite(x) else "0"
+    mag = math.floor(math.log10(abs(x)))
+    if -3 <= mag < 6:
+        dec = max(digits - 1 - mag, 0)
+        return f"{x:.{dec}f}"
+    return f"{x:.{digits - 1}e}".replace(".000e", "e").replace("00e", "e").replace("0e", "e")
+
+
+def display(name: str, value, digits: int = 4) -> tuple[str, str]:
+    """A value as a person reads it: rounded to ``digits`` significant digits, lengths in the unit
+    that keeps them between 1 and 1000, booleans and counts as such.
+
+    Parameters
+    ----------
+    name : str
+        The quantity's name (its unit from :func:`unit_of`).
+    value : object
+    digits : int
+
+    Returns
+    -------
+    (str, str)
+        The number and its unit.
+
+    Examples
+    --------
+    >>> display("irw_range_m", 0.017971), display("pslr_range_db", -13.2512), display("stack_count", 64)
+    (('1.797', 'cm'), ('-13.25', 'dB'), ('64', ''))
+    """
+    unit = unit_of(name)
+    if isinstance(value, bool):
+        return ("yes" if value else "no"), ""
+    if isinstance(value, int):
+        return str(value), unit
+    if not isinstance(value, float):
+        return str(value), unit
+    if unit == "m" and value != 0 and math.isfinite(value):
+        for scale, u in _LENGTHS:
+            if abs(value) >= scale or u == "nm":
+                return round_sig(value / scale, digits), u
+    return round_sig(value, digits), unit
