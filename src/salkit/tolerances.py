@@ -24,3 +24,8 @@ SNR_RATIO = 0.1
 CHIRP_IRW_OF_IDEAL = 0.05
 #: Largest ratio of grid spacing to resolution accepted (1 % for rounding in the scenario).
 GRID_SPACING_OF_RESOLUTION = 1.01
+#: A mainlobe width (IRW) means something only while the highest sidelobe stays this far below the
+#: peak, dB; above it (turbulence that breaks the peak up) reports show the peak ratio and entropy.
+IRW_MEANINGFUL_PSLR_DB = -6.0
+#: |measured fringe period / eq 25 - 1| on a uniform scene (the period is fitted over a finite swath).
+FRINGE_PERIOD_RATIO = 0.01

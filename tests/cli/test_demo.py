@@ -7,3 +7,27 @@ def test_demo_one_example(tmp_path):
     index = (tmp_path / "index.html").read_text()
     assert 'href="geo_range_point/report.html"' in index
     assert (tmp_path / "geo_range_point" / "manifest.json").is_file()
+
+
+def test_every_demo_report_resolves(tmp_path):
+    """make demo end to end: every report's images and links resolve, every image has alt text,
+    every page names the salkit version and has its Files section, the index links every run."""
+    import re
+    from salkit import __version__
+    from salkit.cli.main import _examples_dir
+    assert main(["--out", str(tmp_path)]) == 0
+    names = sorted(f.stem for f in _examples_dir().glob("*.yaml"))
+    index = (tmp_path / "index.html").read_text()
+    for ref in re.findall(r'(?:src|href)="([^"#:]+)"', index):
+        assert (tmp_path / ref).is_file(), f"index.html -> {ref}"
+    for name in names:
+        assert f'href="{name}/report.html"' in index
+        page = tmp_path / name / "report.html"
+        html = page.read_text()
+        for ref in re.findall(r'(?:src|href)="([^"#:]+)"', html):
+            assert (page.parent / ref).is_file() or (ref.endswith("/") and (page.parent / ref).is_dir()), \
+                f"{name}/report.html -> {ref}"
+        for img in re.findall(r"<img [^>]*>", html):
+            assert re.search(r'alt="[^"]{10,}"', img), f"{name}: image without alt text: {img}"
+        assert f"salkit {__version__}" in html and "<h2>Files</h2>" in html, name
+        assert "<details><summary>Resolved scenario" in html, name

@@ -19,10 +19,26 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, Ti
 
 from ..errors import SalkitError
 
-app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
+app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False, rich_markup_mode=None,
                   help="salkit: synthetic aperture ladar simulation, imaging and metrics.")
 err = Console(stderr=True)
 out = Console()
+
+
+def _plain_argument_help() -> None:
+    """Typer 0.2x writes required arguments as ``{NAME}`` in the usage line and appends the Python
+    type (``<path>``) to each; salkit's metavars already say what to give (``SCENARIO.yaml``), so
+    the usage reads as click's convention. Skipped if a typer version lacks the hooks."""
+    try:
+        from typer.core import TyperArgument
+    except ImportError:  # pragma: no cover
+        return
+    if hasattr(TyperArgument, "_usage_display_name") and hasattr(TyperArgument, "display_type_rich"):
+        TyperArgument._usage_display_name = lambda self: self.display_name_raw + ("..." if self.nargs != 1 else "")
+        TyperArgument.display_type_rich = lambda self, ctx: None
+
+
+_plain_argument_help()
 
 EXAMPLES_DIR = Path(__file__).resolve().parents[1] / "examples"
 
@@ -35,6 +51,22 @@ def _examples_dir() -> Path:
 
 
 _STATE = {"debug": False}
+
+
+def show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """Every warning through one formatter on stderr: ``warning: <message>``, without the Python
+    source line (installed as :func:`warnings.showwarning` by the command line).
+
+    Parameters
+    ----------
+    message : Warning or str
+    category : type
+    filename : str
+    lineno : int
+    file, line : optional
+        Unused (the signature of :func:`warnings.showwarning`).
+    """
+    err.print(f"[yellow]warning:[/] {rich_escape(str(message))}", highlight=False, soft_wrap=True)
 
 
 def _say(msg: str) -> None:
@@ -87,12 +119,15 @@ def _version(value: bool):
 
 @app.callback()
 def _main(debug: bool = typer.Option(False, "--debug", help="show tracebacks"),
-          max_memory: Optional[str] = typer.Option(None, "--max-memory", help="refuse jobs whose estimated peak "
+          max_memory: Optional[str] = typer.Option(None, "--max-memory", metavar="SIZE", help="refuse jobs whose estimated peak "
                                                    "memory exceeds this (e.g. 8GiB); default: what is available"),
           version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
                                        help="print the version and exit")):
     """salkit: synthetic aperture ladar simulation, imaging and metrics."""
+    import warnings
     _STATE["debug"] = debug
+    if not debug:
+        warnings.showwarning = show_warning
     from ..resources import parse_size, set_limit
     try:
         set_limit(parse_size(max_memory) if max_memory is not None else None)
@@ -102,10 +137,12 @@ def _main(debug: bool = typer.Option(False, "--debug", help="show tracebacks"),
 
 
 class _Bar:
-    """Rich progress bar driven by ``progress(stage, done, total)`` callbacks."""
+    """Rich progress bar driven by ``progress(stage, done, total)`` callbacks: one bar per stage,
+    the stage named in the unit of its work (``pulses simulated``, ``sub-images``, ...), whose first
+    word is the rate's unit (pulses/s). Bars of a run that completed end at 100 %."""
 
     def __init__(self):
-        self.p = Progress(TextColumn("{task.description:<10}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
+        self.p = Progress(TextColumn("{task.description:<18}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
                           TextColumn("[progress.percentage]{task.percentage:>3.0f}%"),
                           TextColumn("{task.fields[rate]}"), TimeElapsedColumn(), TimeRemainingColumn(),
                           console=err, transient=False)
@@ -116,6 +153,11 @@ class _Bar:
         return self
 
     def __exit__(self, *exc):
+        if exc[0] is None:  # the work finished: stages that report only their start end full
+            for tid in self.tasks.values():
+                task = next(t for t in self.p.tasks if t.id == tid)
+                if task.total is not None:
+                    self.p.update(tid, completed=task.total)
         self.p.__exit__(*exc)
 
     def __call__(self, stage: str, done: int, total: int):
@@ -125,8 +167,21 @@ class _Bar:
         if stage not in self.tasks:
             self.tasks[stage] = self.p.add_task(stage, total=total, rate="")
         elapsed = next(t.elapsed for t in self.p.tasks if t.id == self.tasks[stage]) or 0.0
-        rate = f"{done / elapsed:.1f} {stage}/s" if elapsed > 0 and done else ""
+        unit = stage.split()[0]
+        rate = f"{done / elapsed:.3g} {unit}/s" if elapsed > 0 and done else ""
         self.p.update(self.tasks[stage], completed=done, total=total, rate=rate)
+
+
+def _command_line() -> str:
+    """The command as typed (program name ``salkit``), quoted for a shell; inside a test runner,
+    where :func:`main` did not run, the command's path alone."""
+    import shlex
+    import click
+    if _STATE.get("argv") is not None:
+        return shlex.join(["salkit", *_STATE["argv"]])
+    ctx = click.get_current_context(silent=True)
+    path = ctx.command_path.split(" ", 1)[-1] if ctx is not None else "command"
+    return f"salkit {path} (arguments not recorded)"
 
 
 def _grid(nx, ny, dx, dy, plane):
@@ -149,12 +204,12 @@ def _grid(nx, ny, dx, dy, plane):
 
 @app.command()
 @_guard
-def run(scenario: Path = typer.Argument(..., help="scenario YAML"),
-        out_dir: Path = typer.Option(..., "--out", help="output folder"),
-        set_: List[str] = typer.Option([], "--set", help="override a field: key.path=value"),
-        algorithm: Optional[str] = typer.Option(None, help="override processing.algorithm"),
-        workers: Optional[int] = typer.Option(None, help="Dask workers of a local cluster (stacking runs)"),
-        scheduler: Optional[str] = typer.Option(None, help="address of an existing Dask scheduler"),
+def run(scenario: Path = typer.Argument(..., metavar="SCENARIO.yaml", help="scenario file (salkit examples lists the shipped ones)"),
+        out_dir: Path = typer.Option(..., "--out", metavar="DIR", help="output folder (complete or absent after the run)"),
+        set_: List[str] = typer.Option([], "--set", metavar="KEY=VALUE", help="override a field in its SI unit, e.g. waveform.prf=2000 (Hz); repeatable"),
+        algorithm: Optional[str] = typer.Option(None, metavar="NAME", help="override processing.algorithm: bp | pfa | omegak | ffbp"),
+        workers: Optional[int] = typer.Option(None, metavar="N", help="Dask worker processes of a local cluster (stacking runs; default: one per core)"),
+        scheduler: Optional[str] = typer.Option(None, metavar="ADDRESS", help="address of an existing Dask scheduler, e.g. tcp://host:8786"),
         overwrite: bool = typer.Option(False, "--overwrite", help="replace a non-empty --out once the new run is complete"),
         dry_run: bool = typer.Option(False, "--dry-run", help="validate the scenario, sampling and memory; write nothing")):
     """Simulate, focus, measure, draw and report one scenario (into a folder that is complete or absent)."""
@@ -171,10 +226,7 @@ def run(scenario: Path = typer.Argument(..., help="scenario YAML"),
         return
     with RunFolder(out_dir, overwrite=overwrite, keep_on_failure=("stack.zarr",)) as tmp:
         with _Bar() as bar:
-            m = run_scenario(sc, tmp, progress=bar)
-    if sc.experiment is not None:
-        out.print(f"report: {Path(out_dir) / 'report.html'}")
-        return
+            m = run_scenario(sc, tmp, progress=bar, command=_command_line())
     _summary(m, out_dir)
 
 
@@ -195,21 +247,32 @@ def _preflight(sc) -> None:
         check_sampling(sc, build_collection(sc))
 
 
+def print_headline(m: dict) -> None:
+    """Print a run's headline figures of merit against theory (:func:`salkit.report.index.headline`),
+    coloured by whether each is within the test suite's tolerance.
+
+    Parameters
+    ----------
+    m : dict
+        The run's metrics.
+    """
+    from ..report.index import headline
+    for i in headline(m):
+        mark = {True: "[green]ok[/]", False: "[red]outside tolerance[/]", None: ""}[i["ok"]]
+        out.print(f"  {i['label']:<34} {i['measured']:>10}  {i['reference']:<26} {i['delta']:<13} {mark}",
+                  highlight=False, soft_wrap=True)
+
+
 def _summary(m: dict, out_dir: Path):
-    keys = ["irw_range_m", "irw_range_theory_m", "irw_azimuth_m", "irw_azimuth_theory_m", "pslr_range_db",
-            "pslr_azimuth_db", "peak_offset_range_m", "peak_offset_azimuth_m", "peak_phase_error_rad",
-            "image_snr", "image_snr_theory"]
-    for k in keys:
-        if k in m:
-            out.print(f"  {k:<24} {m[k]: .6g}")
-    out.print(f"report: {Path(out_dir) / 'report.html'}")
+    print_headline(m)
+    out.print(f"report: {Path(out_dir) / 'report.html'}", highlight=False)
 
 
 @app.command()
 @_guard
-def simulate(scenario: Path = typer.Argument(..., help="scenario YAML"),
-             out: Path = typer.Option(..., "--out", help="raw NetCDF file to write"),
-             set_: List[str] = typer.Option([], "--set", help="override a field: key.path=value"),
+def simulate(scenario: Path = typer.Argument(..., metavar="SCENARIO.yaml", help="scenario file"),
+             out: Path = typer.Option(..., "--out", metavar="FILE.nc", help="raw NetCDF file to write (complex echoes, slow time x fast time, s)"),
+             set_: List[str] = typer.Option([], "--set", metavar="KEY=VALUE", help="override a field in its SI unit, e.g. waveform.prf=2000 (Hz); repeatable"),
              overwrite: bool = typer.Option(False, "--overwrite", help="replace an existing file")):
     """Simulate raw dechirped data and write it to a NetCDF file."""
     from ..params import load_scenario
@@ -219,7 +282,7 @@ def simulate(scenario: Path = typer.Argument(..., help="scenario YAML"),
     sc = load_scenario(scenario, list(set_))
     _preflight(sc)
     with _Bar() as bar:
-        raw = sim(sc, progress=lambda d, n: bar("simulate", d, n))
+        raw = sim(sc, progress=lambda d, n: bar("pulses simulated", d, n))
     write_dataset(raw, out)
     if sc.is_downlooking:
         globals()["out"].print(f"wrote {out} ({raw.sizes['scan']} scans x {raw.sizes['fast_time']} samples)")
@@ -239,15 +302,17 @@ def _check_out_file(path: Path, overwrite: bool, field: str = "--out") -> None:
 
 @app.command()
 @_guard
-def focus(raw: Path = typer.Argument(..., help="raw or phase-history NetCDF file"),
-          out_dir: Path = typer.Option(..., "--out", help="output folder"),
-          algorithm: Optional[str] = typer.Option(None, help="bp | pfa | omegak | ffbp (fast factorised backprojection, spotlight)"),
-          window: Optional[str] = typer.Option(None, help="none | hamming | taylor"),
-          nx: Optional[int] = typer.Option(None), ny: Optional[int] = typer.Option(None),
-          dx: Optional[float] = typer.Option(None), dy: Optional[float] = typer.Option(None),
-          plane: Optional[str] = typer.Option(None, help="slant | ground (alone: the default grid in that plane)"),
-          autofocus: Optional[str] = typer.Option(None, help="none | pga | min-entropy (on the image) | pulse (one phase per pulse)"),
-          kernel: Optional[str] = typer.Option(None, help="PGA kernel: pd | lumv | ev"),
+def focus(raw: Path = typer.Argument(..., metavar="RAW", help="raw or phase-history file: .nc, .cphd or GOTCHA .mat"),
+          out_dir: Path = typer.Option(..., "--out", metavar="DIR", help="output folder (complete or absent after the run)"),
+          algorithm: Optional[str] = typer.Option(None, metavar="NAME", help="bp | pfa | omegak | ffbp (fast factorised backprojection, spotlight)"),
+          window: Optional[str] = typer.Option(None, metavar="NAME", help="amplitude window: none | hamming | taylor"),
+          nx: Optional[int] = typer.Option(None, metavar="PIXELS", help="grid size along azimuth, pixels (with --ny, --dx, --dy)"),
+          ny: Optional[int] = typer.Option(None, metavar="PIXELS", help="grid size along range, pixels"),
+          dx: Optional[float] = typer.Option(None, metavar="METRES", help="pixel spacing along azimuth, m (at most the resolution)"),
+          dy: Optional[float] = typer.Option(None, metavar="METRES", help="pixel spacing along range, m (at most the resolution)"),
+          plane: Optional[str] = typer.Option(None, metavar="NAME", help="image plane: slant | ground (alone: the default grid in that plane)"),
+          autofocus: Optional[str] = typer.Option(None, metavar="NAME", help="none | pga | min-entropy (on the image) | pulse (one phase per pulse)"),
+          kernel: Optional[str] = typer.Option(None, metavar="NAME", help="PGA phase-gradient kernel: pd | lumv | ev"),
           sicd: bool = typer.Option(False, "--sicd", help="also write the image as SICD (image.nitf), checked by sarkit"),
           overwrite: bool = typer.Option(False, "--overwrite", help="replace a non-empty --out once the new run is complete")):
     """Focus a raw file (.nc, .cphd or GOTCHA .mat) into image.nc, metrics.json, figures and report.html."""
@@ -285,7 +350,7 @@ def focus(raw: Path = typer.Argument(..., help="raw or phase-history NetCDF file
     with RunFolder(out_dir, overwrite=overwrite) as tmp:
         with _Bar() as bar:
             m = write_run(focus_file(ds, algorithm=algorithm, window_name=window, grid=grid, progress=bar,
-                                     autofocus=autofocus, kernel=kernel, plane=plane), tmp)
+                                     autofocus=autofocus, kernel=kernel, plane=plane), tmp, command=_command_line())
         if sicd:
             _export_sicd(tmp / "image.nc", tmp / "image.nitf", None)
     _summary(m, out_dir)
@@ -323,9 +388,9 @@ def _origin(origin: Optional[str]):
 
 @app.command()
 @_guard
-def export(image: Path = typer.Argument(..., help="salkit image.nc"),
-           dst: Path = typer.Argument(..., help="SICD file to write (.nitf or .ntf)"),
-           origin: Optional[str] = typer.Option(None, help="scene centre as LAT,LON,HAE (deg, deg, m); default "
+def export(image: Path = typer.Argument(..., metavar="IMAGE.nc", help="salkit image file (image.nc of a run)"),
+           dst: Path = typer.Argument(..., metavar="DST.nitf", help="SICD file to write (.nitf or .ntf)"),
+           origin: Optional[str] = typer.Option(None, metavar="LAT,LON,HAE", help="scene centre as LAT,LON,HAE (deg, deg, m); default "
                                                 "the image's origin_llh, else 0,0,0"),
            overwrite: bool = typer.Option(False, "--overwrite", help="replace an existing file")):
     """Export a focused image as SICD 1.3.0 (NITF), metadata from the image and its collection."""
@@ -338,9 +403,9 @@ def export(image: Path = typer.Argument(..., help="salkit image.nc"),
 
 @app.command()
 @_guard
-def convert(src: Path = typer.Argument(..., help="input: .nc (raw or phase history), .cphd or .mat (GOTCHA)"),
-            dst: Path = typer.Argument(..., help="output: .nc (phase history), .cphd or .mat"),
-            origin: Optional[str] = typer.Option(None, help="scene centre for CPHD as LAT,LON,HAE (deg, deg, m); "
+def convert(src: Path = typer.Argument(..., metavar="SRC", help="input: .nc (raw or phase history), .cphd or .mat (GOTCHA)"),
+            dst: Path = typer.Argument(..., metavar="DST", help="output: .nc (phase history), .cphd or .mat"),
+            origin: Optional[str] = typer.Option(None, metavar="LAT,LON,HAE", help="scene centre for CPHD as LAT,LON,HAE (deg, deg, m); "
                                                  "default the file's origin_llh, else 0,0,0"),
             check: bool = typer.Option(True, help="run sarkit's consistency checker on a written CPHD"),
             overwrite: bool = typer.Option(False, "--overwrite", help="replace an existing file")):
@@ -369,14 +434,14 @@ def convert(src: Path = typer.Argument(..., help="input: .nc (raw or phase histo
 
 @app.command()
 @_guard
-def screen(n: int = typer.Option(..., "--n", help="screen size, samples"),
-           dx: float = typer.Option(..., "--dx", help="sample spacing, m"),
-           r0: float = typer.Option(..., "--r0", help="Fried parameter, m"),
-           count: int = typer.Option(1, "--count", help="number of screens"),
-           seed: int = typer.Option(0, "--seed"),
-           outer_scale: Optional[float] = typer.Option(None, "--outer-scale", help="von Karman L0, m"),
-           inner_scale: Optional[float] = typer.Option(None, "--inner-scale", help="inner scale l0, m"),
-           out: Path = typer.Option(..., "--out", help="NetCDF file to write (a PNG of screen 0 beside it)"),
+def screen(n: int = typer.Option(..., "--n", metavar="SAMPLES", help="screen size, samples per side"),
+           dx: float = typer.Option(..., "--dx", metavar="METRES", help="sample spacing, m"),
+           r0: float = typer.Option(..., "--r0", metavar="METRES", help="Fried parameter r0, m"),
+           count: int = typer.Option(1, "--count", metavar="N", help="number of screens"),
+           seed: int = typer.Option(0, "--seed", metavar="INT", help="random seed (the same seed gives the same screens)"),
+           outer_scale: Optional[float] = typer.Option(None, "--outer-scale", metavar="METRES", help="von Karman outer scale L0, m (default: Kolmogorov, infinite)"),
+           inner_scale: Optional[float] = typer.Option(None, "--inner-scale", metavar="METRES", help="inner scale l0, m (default: none)"),
+           out: Path = typer.Option(..., "--out", metavar="FILE.nc", help="NetCDF file to write (phase in rad; a PNG of screen 0 beside it)"),
            overwrite: bool = typer.Option(False, "--overwrite", help="replace an existing file")):
     """Generate turbulence phase screens (rad) into a NetCDF file, with a picture of the first."""
     from ..atmosphere import phase_screens
@@ -389,10 +454,38 @@ def screen(n: int = typer.Option(..., "--n", help="screen size, samples"),
     globals()["out"].print(f"wrote {nc} ({count} screens of {n} x {n}) and {png}")
 
 
+#: Attributes stored as 0/1 (NetCDF has no booleans) that mean yes/no.
+FLAG_KEYS = frozenset({"iq", "wavelength_derived", "speckle", "beam_weighting"})
+
+
+def _typed(d):
+    """JSON-ready values: NumPy scalars and arrays as numbers and lists, flags as booleans."""
+    import numpy as np
+    if isinstance(d, dict):
+        return {k: (bool(v) if k in FLAG_KEYS and isinstance(v, (int, np.integer, bool, np.bool_)) else _typed(v))
+                for k, v in d.items()}
+    if isinstance(d, (list, tuple)):
+        return [_typed(v) for v in d]
+    if isinstance(d, np.ndarray):
+        return d.tolist()
+    if isinstance(d, np.generic):
+        return d.item()
+    return d
+
+
+def _with_units(d: dict) -> dict:
+    """``d`` with a ``units`` map: every key whose unit is known (:func:`salkit.units.unit_of`)."""
+    from ..units import unit_of
+    units = {k: unit_of(k) for k, v in d.items() if isinstance(v, (int, float)) and not isinstance(v, bool)
+             and unit_of(k)}
+    return {**d, "units": units}
+
+
 @app.command()
 @_guard
-def info(path: Path = typer.Argument(..., help="a salkit NetCDF file or a scenario YAML")):
-    """Describe a data file or a scenario (with its derived quantities)."""
+def info(path: Path = typer.Argument(..., metavar="PATH", help="a salkit NetCDF file, or a scenario YAML")):
+    """Describe a data file or a scenario (with its derived quantities) as JSON: numbers typed,
+    flags as true/false, a "units" map for every quantity with a unit."""
     if path.suffix.lower() in (".yaml", ".yml"):
         from ..params import load_scenario
         from ..geometry import build_collection, check_sampling, resolution_theory
@@ -400,24 +493,28 @@ def info(path: Path = typer.Argument(..., help="a salkit NetCDF file or a scenar
         if sc.is_downlooking:
             from ..geometry.downlooking import design
             dd = design(sc.experiment)
-            out.print_json(json.dumps({"name": sc.name, **dd.as_dict(), "warnings": list(dd.warnings)}, default=str))
-            return
-        _preflight(sc)
-        col = build_collection(sc)
-        rep = check_sampling(sc, col)
-        res = resolution_theory(sc, col)
-        d = {"name": sc.name, "pulses": col.n_pulses, "slant_range_m": sc.platform.slant_range,
-             "resolution_range_m": res["range"], "resolution_azimuth_m": res["azimuth"],
-             "aperture_length_m": res["aperture_length"], **rep.as_dict()}
+            d = {"name": sc.name, "kind": "downlooking", **dd.as_dict(), "warnings": list(dd.warnings)}
+        else:
+            _preflight(sc)
+            col = build_collection(sc)
+            res = resolution_theory(sc, col)
+            kind = sc.experiment.kind if sc.experiment is not None else "sal"
+            d = {"name": sc.name, "kind": kind, "pulses": col.n_pulses, "slant_range_m": sc.platform.slant_range,
+                 "resolution_range_m": res["range"], "resolution_azimuth_m": res["azimuth"],
+                 "aperture_length_m": res["aperture_length"]}
+            if sc.experiment is None:  # an experiment checks the sampling of what it images itself
+                d.update({f"sampling_{k}": v for k, v in check_sampling(sc, col).as_dict().items()})
+            else:
+                d["sampling"] = f"checked by the {kind} experiment for what it images"
     else:
         from ..io import describe
         d = describe(path)
-    out.print_json(json.dumps(d, default=str))
+    out.print_json(json.dumps(_with_units(_typed(d))))
 
 
 @app.command()
 @_guard
-def verify(folder: Path = typer.Argument(..., help="an output folder of salkit run / focus")):
+def verify(folder: Path = typer.Argument(..., metavar="DIR", help="an output folder of salkit run / focus")):
     """Check every file of an output folder against its manifest.json (size and SHA-256)."""
     from ..errors import DataFileError
     from ..io.runfolder import verify as verify_folder
@@ -431,7 +528,7 @@ def verify(folder: Path = typer.Argument(..., help="an output folder of salkit r
 
 @app.command()
 @_guard
-def examples(copy_to: Optional[Path] = typer.Option(None, "--copy", help="copy the examples into this folder"),
+def examples(copy_to: Optional[Path] = typer.Option(None, "--copy", metavar="DIR", help="copy the examples into this folder"),
              overwrite: bool = typer.Option(False, "--overwrite", help="replace files that differ from the shipped ones")):
     """List the shipped example scenarios (and optionally copy them)."""
     import yaml
@@ -483,6 +580,7 @@ def main():  # pragma: no cover
     signal.signal(signal.SIGTERM, _on_signal)
     signal.signal(signal.SIGINT, _on_signal)
     sys.unraisablehook = _unraisable
+    _STATE["argv"] = sys.argv[1:]
     return app()
 
 

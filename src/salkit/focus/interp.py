@@ -145,7 +145,9 @@ def azimuth_pass(d1t, ts, kx, ky, v_a, v_r, half, table, buf, ia, ir):
     For K-space row j (ky[j]) and column i, the needed sample sits at t = kx[i] / ky[j] on the
     pulses' monotonic (increasing) ``ts`` = tan(look) sequence; its fractional pulse index is found
     by bisection and linear interpolation, then ``d1t[j]`` (pulses along the row) is sinc-
-    interpolated there. buf[ia[i], ir[j]] = value * v_a[i] * v_r[j].
+    interpolated there. buf[ia[i], ir[j]] = value * v_a[i] * v_r[j]. As in range, each pulse is a
+    sample of its interval: the support reaches half an interval beyond the first and last pulse
+    (P pulses span P intervals, the aperture of direct backprojection and of lambda R / 2L).
 
     Parameters
     ----------
@@ -170,13 +172,16 @@ def azimuth_pass(d1t, ts, kx, ky, v_a, v_r, half, table, buf, ia, ir):
     os = 2048
     T = 2 * half
     scale = (P - 1) / (ts[P - 1] - ts[0])
+    # each pulse stands for its own interval: the support runs half an interval past the end pulses
+    t_lo = ts[0] - 0.5 * (ts[1] - ts[0])
+    t_hi = ts[P - 1] + 0.5 * (ts[P - 1] - ts[P - 2])
     for j in prange(nky):
         row = d1t[j]
         kyj = ky[j]
         vr = v_r[j]
         for i in range(nkx):
             t = kx[i] / kyj
-            if not (t >= ts[0] and t <= ts[P - 1]):
+            if not (t >= t_lo and t <= t_hi):
                 continue
             # ts is nearly linear in the pulse index: guess, then walk to the bracketing pair
             lo = int((t - ts[0]) * scale)

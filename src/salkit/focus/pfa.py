@@ -265,7 +265,9 @@ def pfa_on_grid(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_ran
         t, d1 = t[::-1], d1[::-1]
     if np.any(np.diff(t) <= 0):
         raise ValueError("PFA needs the look angle to change monotonically over the aperture")
-    kx_ends = np.stack([ky * t[0], ky * t[-1]], axis=1)
+    # P pulses span P intervals (as in direct backprojection): half an interval past each end
+    t_ends = (t[0] - 0.5 * (t[1] - t[0]), t[-1] + 0.5 * (t[-1] - t[-2])) if P > 1 else (t[0], t[-1])
+    kx_ends = np.stack([ky * t_ends[0], ky * t_ends[1]], axis=1)
     kx_lo, kx_hi = np.max(kx_ends.min(axis=1)), np.min(kx_ends.max(axis=1))
     dkx = 2 * np.pi / (nx * dx)
     nkx = min(int(np.floor((kx_hi - kx_lo) / dkx)), nx)

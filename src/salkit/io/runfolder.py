@@ -276,3 +276,24 @@ class RunFolder:
 
 
 __all__ = ["INTERRUPTED", "MANIFEST", "RunFolder", "sha256_file", "verify", "write_manifest"]
+
+
+def is_staging(path: str | Path) -> bool:
+    """Whether ``path`` is the temporary folder of a :class:`RunFolder` (``.NAME.tmp-RUNID``),
+    which gets a ``manifest.json`` when the run completes.
+
+    Parameters
+    ----------
+    path : path
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> is_staging("results/.spotlight.tmp-20261123T150000-ab12"), is_staging("results/spotlight")
+    (True, False)
+    """
+    name = Path(path).name
+    return name.startswith(".") and ".tmp-" in name

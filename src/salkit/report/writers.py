@@ -5,18 +5,17 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import __version__, plot
-from ..metrics.pointtarget import cut_curves
-from ..systems.result import RunResult
-from . import comparison_rows, files_table, render
-from ..papers import published
+from .. import plot
+from .. import tolerances as tol
 from ..geometry.orbit import max_squint_for, resolution_vs_squint
+from ..metrics.pointtarget import cut_curves
+from ..papers import published
 from ..plot import downlooking as dlplot
-from . import table3_cells
-from . import downlooking_context
+from ..systems.result import RunResult
+from . import comparison_rows, downlooking_context, render, table3_cells
 
 
-def write_airborne(result: RunResult, out: Path) -> None:
+def write_airborne(result: RunResult, out: Path, page: dict | None = None) -> None:
     """Figures (image, cuts, autofocus history, raw data) and report.html of a plain run or of an
     outside file focused.
 
@@ -24,6 +23,8 @@ def write_airborne(result: RunResult, out: Path) -> None:
     ----------
     result : RunResult
     out : Path
+    page : dict, optional
+        Command line and index link (:func:`salkit.report.render`).
     """
     image = result.datasets["image.nc"]
     fig, metrics = result.figures, result.metrics
@@ -31,37 +32,39 @@ def write_airborne(result: RunResult, out: Path) -> None:
     truth = None
     if "target_azimuth" in image:
         truth = np.stack([image["target_azimuth"].values, image["target_range"].values], axis=1)
-    figs = [("Focused image (dB)", "image.png")]
-    plot.image_db(image, out / "image.png", title=f"{result.name}: {image.attrs.get('algorithm')} image", truth=truth)
+    alg = image.attrs.get("algorithm")
+    figs = [("Focused image (dB)", "image.png", f"{alg} image, dB, azimuth and range in m, true target positions marked")]
+    plot.image_db(image, out / "image.png", title=f"{result.name}: {alg} image", truth=truth)
     if "_cut_range" in details:
         plot.cuts(cut_curves(details, image.attrs), metrics, out / "cuts.png")
-        figs.append(("Cuts through the brightest target against theory", "cuts.png"))
+        figs.append(("Cuts through the brightest target against theory", "cuts.png",
+                     "Range and azimuth cuts through the brightest target, dB, against the theoretical response"))
     if fig.get("autofocus") is not None:
         res = fig["autofocus"]
         plot.autofocus_history(res, out / "autofocus.png", title=getattr(res, "title", "autofocus"))
-        figs.append(("Autofocus history", "autofocus.png"))
+        figs.append(("Autofocus history", "autofocus.png", "Estimated phase error and image sharpness per autofocus iteration"))
     raw = fig.get("raw")
     if raw is not None and "fast_time" in raw:
         plot.raw_phase_history(raw, out / "raw.png")
-        figs.append(("Raw dechirped data", "raw.png"))
+        figs.append(("Raw dechirped data", "raw.png", "Raw dechirped data, real part, pulses against fast time"))
     timings = fig.get("timings", {})
-    render(out, "report.html", name=result.name, description=result.description, version=__version__,
-           algorithm=image.attrs.get("algorithm"), window=image.attrs.get("window"),
+    render(out, "report.html", result, page, algorithm=alg, window=image.attrs.get("window"),
            t_simulate=timings.get("simulate_s", 0.0), t_focus=timings.get("focus_s", 0.0),
-           figures=[{"title": t, "file": f} for t, f in figs], rows=comparison_rows(metrics), metrics=metrics,
-           files=sorted(set(files_table(out)) | {"metrics.json"}), scenario=result.scenario_text)
+           figures=[{"title": t, "file": f, "alt": a} for t, f, a in figs], rows=comparison_rows(metrics))
 
 
 WRITERS = {"airborne": write_airborne}
 
 
-def write_turbulence(result: RunResult, out: Path) -> None:
+def write_turbulence(result: RunResult, out: Path, page: dict | None = None) -> None:
     """Figures 1-8 of seed 004 and its report.html.
 
     Parameters
     ----------
     result : RunResult
     out : Path
+    page : dict, optional
+        Command line and index link (:func:`salkit.report.render`).
     """
     f = result.figures
     plot.screens_figure(f["path"], out / "screens.png")
@@ -71,41 +74,43 @@ def write_turbulence(result: RunResult, out: Path) -> None:
     plot.ipr_classes_figure(f["cuts"], out / "ipr_classes.png")
     plot.image_grid_figure(f["i_images"], out / "i_target.png")
     plot.pga_steps_figure(f["i_images"][f["worst"]][0], f["steps"], out / "pga_iterations.png", title=f["worst"])
-    render(out, "turbulence.html", name=result.name, description=result.description, rows=f["rows"],
-           metrics=result.metrics, scenario=result.scenario_text)
+    render(out, "turbulence.html", result, page, rows=f["rows"], irw_pslr=tol.IRW_MEANINGFUL_PSLR_DB)
 
 
 WRITERS["turbulence_pga"] = write_turbulence
 
 
-def write_chirp(result: RunResult, out: Path) -> None:
+def write_chirp(result: RunResult, out: Path, page: dict | None = None) -> None:
     """Heat maps of Tables 2 and 3, the range profiles, and report.html of seed 002.
 
     Parameters
     ----------
     result : RunResult
     out : Path
+    page : dict, optional
+        Command line and index link (:func:`salkit.report.render`).
     """
     sweeps = result.figures["sweeps"]
     for label, (rows_, cols_, grids, irws) in sweeps.items():
         plot.sweep_heatmaps(rows_, cols_, grids, irws, out / f"{label}.png",
                             ("d_rlo (m)", "d_r (m)") if label == "table2" else ("R2", "R1"))
     plot.range_profiles_figure(result.datasets["profiles.nc"], out / "profiles.png")
-    render(out, "chirp.html", name=result.name, description=result.description, table1=result.figures["table1"],
-           paper=published()["seed002"]["table1"], metrics=result.metrics, cells=table3_cells(sweeps["table3"]),
-           scenario=result.scenario_text)
+    render(out, "chirp.html", result, page, table1=result.figures["table1"], paper=published()["seed002"]["table1"],
+           cells=table3_cells(sweeps["table3"]))
 
 
 WRITERS["nonlinear_chirp"] = write_chirp
 
 
-def write_spaceborne(result: RunResult, out: Path) -> None:
+def write_spaceborne(result: RunResult, out: Path, page: dict | None = None) -> None:
     """Figures 5-10 of seed 001 and its report.html.
 
     Parameters
     ----------
     result : RunResult
     out : Path
+    page : dict, optional
+        Command line and index link (:func:`salkit.report.render`).
     """
     f = result.figures
     q = np.linspace(-20, 20, 201)
@@ -113,20 +118,21 @@ def write_spaceborne(result: RunResult, out: Path) -> None:
                                   f["sub_length"], q), max_squint_for(1.1), out / "resolution_squint.png")
     plot.spaceborne_figures(f["truth"], f["fig7"], f["single"], f["stack"], f["counts"], f["curve"], f["snr_theory"],
                             f["az"], f["rg"], out)
-    render(out, "spaceborne.html", name=result.name, description=result.description, metrics=result.metrics,
-           scenario=result.scenario_text)
+    render(out, "spaceborne.html", result, page)
 
 
 WRITERS["spaceborne_geo"] = write_spaceborne
 
 
-def write_downlooking(result: RunResult, out: Path) -> None:
+def write_downlooking(result: RunResult, out: Path, page: dict | None = None) -> None:
     """Figures and report.html of seeds 000/003.
 
     Parameters
     ----------
     result : RunResult
     out : Path
+    page : dict, optional
+        Command line and index link (:func:`salkit.report.render`).
     """
     f, m = result.figures, result.metrics
     if "point_details" in f:
@@ -141,7 +147,7 @@ def write_downlooking(result: RunResult, out: Path) -> None:
         dlplot.terrain_figures(f["terrain"], f["design"], f["experiment"], out)
     if "disturbance_images" in f:
         dlplot.disturbance_figure(f["disturbance_images"], out / "disturbance.png")
-    render(out, "downlooking.html", paper=published()["seed000"],
+    render(out, "downlooking.html", result, page, paper=published()["seed000"],
            **downlooking_context(result.name, result.description, m, f["design"], f["disturbance_rows"],
                                  result.scenario_text))
 
