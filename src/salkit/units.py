@@ -31,7 +31,12 @@ NAMED: dict[str, str] = {
     "coupling_length": "m", "wavelength_derived": "",
 }
 
-_LENGTHS = ((1e3, "km"), (1.0, "m"), (1e-2, "cm"), (1e-3, "mm"), (1e-6, "um"), (1e-9, "nm"))
+#: Units a value is shown in so that it stays between 1 and 1000 (largest first).
+SCALES = {
+    "m": ((1e3, "km"), (1.0, "m"), (1e-2, "cm"), (1e-3, "mm"), (1e-6, "um"), (1e-9, "nm")),
+    "Hz": ((1e12, "THz"), (1e9, "GHz"), (1e6, "MHz"), (1e3, "kHz"), (1.0, "Hz"), (1e-3, "mHz")),
+    "s": ((1.0, "s"), (1e-3, "ms"), (1e-6, "us"), (1e-9, "ns"), (1e-12, "ps")),
+}
 
 
 def unit_of(name: str) -> str:
@@ -92,8 +97,9 @@ def round_sig(x: float, digits: int = 4) -> str:
 
 
 def display(name: str, value, digits: int = 4) -> tuple[str, str]:
-    """A value as a person reads it: rounded to ``digits`` significant digits, lengths in the unit
-    that keeps them between 1 and 1000, booleans and counts as such.
+    """A value as a person reads it: rounded to ``digits`` significant digits, lengths, frequencies
+    and times in the unit that keeps them between 1 and 1000 (:data:`SCALES`; times of a second
+    and more stay in seconds), booleans and counts as such.
 
     Parameters
     ----------
@@ -111,6 +117,8 @@ def display(name: str, value, digits: int = 4) -> tuple[str, str]:
     --------
     >>> display("irw_range_m", 0.017971), display("pslr_range_db", -13.2512), display("stack_count", 64)
     (('1.797', 'cm'), ('-13.25', 'dB'), ('64', ''))
+    >>> display("sampling_adc_rate", 2e7), display("sampling_gate", 9.992e-6)
+    (('20.00', 'MHz'), ('9.992', 'us'))
     """
     unit = unit_of(name)
     if isinstance(value, bool):
@@ -119,8 +127,9 @@ def display(name: str, value, digits: int = 4) -> tuple[str, str]:
         return str(value), unit
     if not isinstance(value, float):
         return str(value), unit
-    if unit == "m" and value != 0 and math.isfinite(value):
-        for scale, u in _LENGTHS:
-            if abs(value) >= scale or u == "nm":
+    if unit in SCALES and value != 0 and math.isfinite(value):
+        steps = SCALES[unit]
+        for scale, u in steps:
+            if abs(value) >= scale or u == steps[-1][1]:
                 return round_sig(value / scale, digits), u
     return round_sig(value, digits), unit

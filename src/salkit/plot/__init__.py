@@ -7,10 +7,17 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
 import numpy as np  # noqa: E402
 from ..io.datasets import atomic_path
 import lazy_loader as _lazy
 sfft = _lazy.load("scipy.fft", suppress_warning=True)
+
+
+def _subplots(*args, **kwargs):
+    """``plt.subplots`` with constrained layout: titles, labels and colourbars never overlap."""
+    kwargs.setdefault("layout", "constrained")
+    return plt.subplots(*args, **kwargs)
 
 
 
@@ -46,7 +53,7 @@ def image_db(image_ds, path, title: str = "", dynamic_range: float = 40.0, truth
     az = image_ds["azimuth"].values
     rg = image_ds["range"].values
     db = 20 * np.log10(np.maximum(img / max(img.max(), 1e-30), 1e-12))
-    fig, ax = plt.subplots(figsize=(6.4, 5.2))
+    fig, ax = _subplots(figsize=(6.4, 5.2))
     ext = [az[0], az[-1], rg[0], rg[-1]]
     im = ax.imshow(db.T, origin="lower", extent=ext, cmap="gray", vmin=-dynamic_range, vmax=0,
                    aspect="equal", interpolation="nearest")
@@ -77,7 +84,7 @@ def cuts(curves: dict, metrics: dict, path) -> Path:
     -------
     Path
     """
-    fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
+    fig, axes = _subplots(1, 2, figsize=(11, 3.8))
     for ax, name in ((axes[0], "range"), (axes[1], "azimuth")):
         x, meas, th = curves[name]
         ax.plot(x * 100, meas, label="measured")
@@ -108,13 +115,13 @@ def raw_phase_history(raw_ds, path) -> Path:
     s = np.abs(raw_ds["signal"].values)
     t = raw_ds["fast_time"].values * 1e6
     st = raw_ds["slow_time"].values
-    fig, ax = plt.subplots(figsize=(6.4, 4.0))
+    fig, ax = _subplots(figsize=(6.4, 4.0))
     im = ax.imshow(s.T, origin="lower", aspect="auto", cmap="viridis",
                    extent=[st[0], st[-1], t[0], t[-1]])
     ax.set_xlabel("slow time (s)")
     ax.set_ylabel("fast time (us)")
     ax.set_title("raw dechirped signal magnitude")
-    fig.colorbar(im, ax=ax)
+    fig.colorbar(im, ax=ax, label="|signal| (arb. units)")
     return _save(fig, path)
 
 
@@ -135,7 +142,7 @@ def screen_image(phi: np.ndarray, dx: float, path, title: str = "") -> Path:
     Path
     """
     n = phi.shape[0]
-    fig, ax = plt.subplots(figsize=(5.6, 4.8))
+    fig, ax = _subplots(figsize=(5.6, 4.8))
     im = ax.imshow(phi, origin="lower", extent=[0, phi.shape[1] * dx, 0, n * dx], cmap="viridis")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
@@ -158,7 +165,7 @@ def autofocus_history(res, path, title: str = "") -> Path:
     Path
     """
     it = [h["iteration"] for h in res.history]
-    fig, axes = plt.subplots(1, 2, figsize=(11, 3.6))
+    fig, axes = _subplots(1, 2, figsize=(11, 3.6))
     ax = axes[0]
     ax.plot(it, [h["entropy"] for h in res.history], "o-", label="entropy (nats)")
     ax.axvline(res.best_iteration, color="gray", ls=":", label="returned")
@@ -173,7 +180,6 @@ def autofocus_history(res, path, title: str = "") -> Path:
     axes[1].set_xlabel("phase-history bin (centred)")
     axes[1].set_ylabel("estimated phase error (rad)")
     axes[1].grid(alpha=0.3)
-    fig.subplots_adjust(wspace=0.45)
     return _save(fig, path)
 
 
@@ -192,7 +198,7 @@ def screens_figure(path, out) -> Path:
     """
     n = path.screens.shape[1]
     ext = [0, n * path.dx, 0, n * path.dx]
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.4))
+    fig, axes = _subplots(1, 2, figsize=(11, 4.4))
     for ax, data, t in ((axes[0], path.screens[0], f"one layer (z = {path.z[0]:.0f} m, r0 = {path.r0[0]:.3g} m)"),
                         (axes[1], path.screens.sum(axis=0), f"sum of {path.screens.shape[0]} layers")):
         im = ax.imshow(data.T, origin="lower", extent=ext, cmap="viridis")
@@ -221,7 +227,7 @@ def structure_function_figure(r, d, err, theory, out, title="") -> Path:
     -------
     Path
     """
-    fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
+    fig, axes = _subplots(1, 2, figsize=(11, 3.8))
     axes[0].loglog(r, theory, "k-", label="theory 6.88 (r/r0)^(5/3)")
     axes[0].errorbar(r, d, yerr=err, fmt="o", ms=3, label="ensemble")
     axes[0].set_xlabel("separation (m)")
@@ -250,7 +256,7 @@ def ipr_classes_figure(cuts, out) -> Path:
     -------
     Path
     """
-    fig, axes = plt.subplots(1, 2, figsize=(11, 3.8), sharey=True)
+    fig, axes = _subplots(1, 2, figsize=(11, 3.8), sharey=True)
     for ax, idx, t in ((axes[0], 0, "focused (PFA)"), (axes[1], 1, "after PGA")):
         for name, pair in cuts.items():
             m = pair[idx]
@@ -286,23 +292,25 @@ def image_grid_figure(images, out) -> Path:
     Path
     """
     names = list(images)
-    fig, axes = plt.subplots(2, len(names), figsize=(3.2 * len(names), 6.2), squeeze=False)
+    fig, axes = _subplots(2, len(names), figsize=(3.0 * len(names) + 1.0, 6.4), squeeze=False)
+    im = None
     for j, name in enumerate(names):
         for i, ds in enumerate(images[name]):
             img = ds["image"].values
             az, rg = ds["azimuth"].values, ds["range"].values
             keep_a, keep_r = np.abs(az) <= 0.5, np.abs(rg) <= 0.5
             sub = img[np.ix_(keep_a, keep_r)]
-            axes[i, j].imshow(_db(sub, np.abs(sub).max()).T, origin="lower", cmap="gray", vmin=-30, vmax=0,
-                              extent=[az[keep_a][0], az[keep_a][-1], rg[keep_r][0], rg[keep_r][-1]])
+            im = axes[i, j].imshow(_db(sub, np.abs(sub).max()).T, origin="lower", cmap="gray", vmin=-30, vmax=0,
+                                   extent=[az[keep_a][0], az[keep_a][-1], rg[keep_r][0], rg[keep_r][-1]])
             axes[i, j].set_title(f"{name}{' + PGA' if i else ''}", fontsize=9)
             axes[i, j].set_xlabel("azimuth (m)", fontsize=8)
-    axes[0, 0].set_ylabel("range (m)")
-    axes[1, 0].set_ylabel("range (m)")
+            axes[i, j].set_ylabel("range (m)", fontsize=8)
+            axes[i, j].tick_params(labelsize=7)
+    fig.colorbar(im, ax=axes, shrink=0.8, label="dB (each panel's peak = 0)")
     return _save(fig, out)
 
 
-def pga_steps_figure(before, steps, out, title="") -> Path:
+def pga_steps_figure(before, steps, out, title="", notes=None) -> Path:
     """Seed 004 figs 6-8: the I target after PGA capped at 5, 10 and 20 iterations.
 
     Parameters
@@ -312,22 +320,33 @@ def pga_steps_figure(before, steps, out, title="") -> Path:
         Label -> image.
     out : path
     title : str
+        The turbulence class.
+    notes : dict, optional
+        Label -> a second title line (the image entropy, which tells panels apart that look alike).
 
     Returns
     -------
     Path
     """
-    items = [("focused", before)] + list(steps.items())
-    fig, axes = plt.subplots(1, len(items), figsize=(3.2 * len(items), 3.4))
+    items = [("focused, no PGA", before)] + list(steps.items())
+    fig, axes = _subplots(1, len(items), figsize=(3.0 * len(items) + 1.0, 3.6))
+    im = None
     for ax, (t, ds) in zip(axes, items):
         img = ds["image"].values
         az, rg = ds["azimuth"].values, ds["range"].values
         ka, kr = np.abs(az) <= 0.5, np.abs(rg) <= 0.5
         sub = img[np.ix_(ka, kr)]
-        ax.imshow(_db(sub, np.abs(sub).max()).T, origin="lower", cmap="gray", vmin=-30, vmax=0,
-                  extent=[az[ka][0], az[ka][-1], rg[kr][0], rg[kr][-1]])
-        ax.set_title(f"{title}: {t}", fontsize=8)
+        im = ax.imshow(_db(sub, np.abs(sub).max()).T, origin="lower", cmap="gray", vmin=-30, vmax=0,
+                       extent=[az[ka][0], az[ka][-1], rg[kr][0], rg[kr][-1]])
+        note = (notes or {}).get(t, "")
+        ax.set_title(f"{t}" + (f"\n{note}" if note else ""), fontsize=8)
         ax.set_xlabel("azimuth (m)", fontsize=8)
+        ax.set_ylabel("range (m)", fontsize=8)
+        ax.tick_params(labelsize=7)
+    fig.colorbar(im, ax=axes, shrink=0.85, label="dB (peak = 0)")
+    if title:
+        fig.suptitle(f"{title} class: PGA stopped after at most 5, 10 and 20 iterations (it stops by itself once "
+                     "the phase estimate converges)", fontsize=9)
     return _save(fig, out)
 
 
@@ -348,18 +367,24 @@ def sweep_heatmaps(rows, cols, grids, irws, out, labels) -> Path:
     Path
     """
     meths = [m for m in grids if m != "none"]
-    fig, axes = plt.subplots(2, len(meths), figsize=(3.4 * len(meths), 6.4), squeeze=False)
+    fig, axes = _subplots(2, len(meths), figsize=(3.6 * len(meths), 7.0), squeeze=False)
     for j, m in enumerate(meths):
         for i, (data, t, kw) in enumerate(((grids[m], "compression ratio", {"norm": matplotlib.colors.LogNorm(0.5, 100)}),
                                           (irws[m] / irws["ideal"], "IRW / ideal", {"vmin": 0.9, "vmax": 3}))):
-            im = axes[i, j].imshow(data, origin="lower", aspect="auto", cmap="viridis", **kw)
-            axes[i, j].set_xticks(range(len(cols)), [f"{c:g}" for c in cols], fontsize=6, rotation=90)
-            axes[i, j].set_yticks(range(len(rows)), [f"{r:g}" for r in rows], fontsize=6)
-            axes[i, j].set_title(f"{m}: {t}", fontsize=8)
-            axes[i, j].set_xlabel(labels[1], fontsize=7)
-            axes[i, j].set_ylabel(labels[0], fontsize=7)
-            fig.colorbar(im, ax=axes[i, j])
-    fig.subplots_adjust(hspace=0.5, wspace=0.5)
+            ax = axes[i, j]
+            ax.set_facecolor("0.85")
+            ax.patch.set_hatch("xx")
+            ax.patch.set_edgecolor("0.6")
+            im = ax.imshow(np.ma.masked_invalid(data), origin="lower", aspect="auto", cmap="viridis", **kw)
+            ax.set_xticks(range(len(cols)), [f"{c:g}" for c in cols], fontsize=8, rotation=90)
+            ax.set_yticks(range(len(rows)), [f"{r:g}" for r in rows], fontsize=8)
+            ax.set_title(f"{m}: {t}", fontsize=9)
+            ax.set_xlabel(labels[1], fontsize=9)
+            ax.set_ylabel(labels[0], fontsize=9)
+            fig.colorbar(im, ax=ax)
+    if any(np.isnan(np.asarray(g, float)).any() for g in grids.values()):
+        fig.suptitle("hatched cells: no result where d_r = d_rlo (a zero-length reference: its beat is zero "
+                     "and carries no chirp error)", fontsize=9)
     return _save(fig, out)
 
 
@@ -377,7 +402,7 @@ def range_profiles_figure(ds, out) -> Path:
     Path
     """
     pts = list(ds["point"].values)
-    fig, axes = plt.subplots(1, len(pts), figsize=(4.2 * len(pts), 3.6), squeeze=False)
+    fig, axes = _subplots(1, len(pts), figsize=(4.2 * len(pts), 3.6), squeeze=False)
     r = ds["range"].values
     for j, p in enumerate(pts):
         ref = np.nanmax(np.abs(ds["ideal"].sel(point=p).values))
@@ -417,33 +442,44 @@ def spaceborne_figures(truth, fig7, single, stack, counts, curve, snr1_theory, a
     out = Path(out)
     ext = [az[0], az[-1], rg[0], rg[-1]]
     qs = list(fig7)
-    fig, axes = plt.subplots(2, len(qs) + 1, figsize=(3.3 * (len(qs) + 1), 6.4))
+    fig, axes = _subplots(2, len(qs) + 1, figsize=(3.2 * (len(qs) + 1) + 1.0, 6.8))
     axes[0, 0].imshow(truth.T, origin="lower", extent=ext, cmap="gray")
     axes[0, 0].set_title("target (truth)", fontsize=9)
     axes[1, 0].axis("off")
+    im = None
     for j, q in enumerate(qs):
         for i, (img, t) in enumerate(zip(fig7[q], ("before geometric correction", "after (common frame)"))):
             a = img / max(img.max(), 1e-30)
-            axes[i, j + 1].imshow(20 * np.log10(np.maximum(a, 1e-3)).T, origin="lower", extent=ext, cmap="gray",
-                                  vmin=-30, vmax=0)
-            axes[i, j + 1].set_title(f"squint {q:+.1f} deg, {t}", fontsize=8)
+            im = axes[i, j + 1].imshow(20 * np.log10(np.maximum(a, 1e-3)).T, origin="lower", extent=ext, cmap="gray",
+                                       vmin=-30, vmax=0)
+            axes[i, j + 1].set_title(f"squint {q:+.1f} deg\n{t}", fontsize=8)
     for ax in axes.ravel():
-        ax.tick_params(labelsize=7)
+        if ax.axison:
+            ax.tick_params(labelsize=7)
+            ax.set_xlabel("along track (m)", fontsize=8)
+            ax.set_ylabel("range (m)", fontsize=8)
+    fig.colorbar(im, ax=axes[:, 1:], shrink=0.8, label="dB (each panel's peak = 0)")
     _save(fig, out / "subimages.png")
-    fig, axes = plt.subplots(1, 2, figsize=(9, 4.2))
+    fig, axes = _subplots(1, 2, figsize=(9.6, 4.2))
+    im = None
     for ax, img, t in ((axes[0], single, "one photon-limited sub-image"), (axes[1], stack, f"stack of {counts[-1]}")):
         a = img / max(np.percentile(img, 99.5), 1e-30)
-        ax.imshow(np.minimum(a, 1).T, origin="lower", extent=ext, cmap="gray")
+        im = ax.imshow(np.minimum(a, 1).T, origin="lower", extent=ext, cmap="gray", vmin=0, vmax=1)
         ax.set_title(t, fontsize=9)
         ax.set_xlabel("along track (m)")
-    axes[0].set_ylabel("range (m)")
+        ax.set_ylabel("range (m)")
+    fig.colorbar(im, ax=axes, shrink=0.85, label="intensity / its 99.5th percentile")
     _save(fig, out / "stack.png")
-    fig, ax = plt.subplots(figsize=(5.6, 4))
+    fig, ax = _subplots(figsize=(5.8, 4))
     c = np.asarray(counts, float)
     ax.loglog(c, curve, "o-", label="measured")
     ax.loglog(c, snr1_theory * np.sqrt(c), "k--", label="sqrt(P) x eq 15")
     ax.set_xlabel("sub-images stacked, P")
     ax.set_ylabel("image SNR")
+    for axis in (ax.xaxis, ax.yaxis):  # 1-2-5 ticks, plain numbers (no run-together 2x10^0 labels)
+        axis.set_major_locator(matplotlib.ticker.LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+        axis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+        axis.set_minor_formatter(matplotlib.ticker.NullFormatter())
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3, which="both")
     _save(fig, out / "snr_vs_p.png")
@@ -467,7 +503,7 @@ def resolution_squint_figure(squints, measured, q, theory, qm, path) -> Path:
     -------
     Path
     """
-    fig, ax = plt.subplots(figsize=(5.8, 3.8))
+    fig, ax = _subplots(figsize=(5.8, 3.8))
     ax.plot(q, 100 * np.asarray(theory), "k-", label="eq 12")
     ax.plot(squints, 100 * np.asarray(measured), "o", label="measured (IRW / 0.886)")
     ax.axvspan(-qm, qm, color="g", alpha=0.1, label=f"within 1.1x (|squint| < {qm:.1f} deg)")

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import _db, _save, plt
+from . import _db, _save, _subplots
 import textwrap
 
 
@@ -27,16 +27,17 @@ def raw_current(current, Y, t, path):
     -------
     Path
     """
-    fig, ax = plt.subplots(1, 2, figsize=(11, 3.6))
+    fig, ax = _subplots(1, 2, figsize=(11, 3.6))
     mid = current.shape[0] // 2 & ~1
     ax[0].plot(t * 1e3, current[mid], lw=0.6, label=f"forward scan {mid}")
     ax[0].plot(t * 1e3, current[mid + 1], lw=0.6, label=f"backward scan {mid + 1}")
     ax[0].set_xlabel("fast time (ms)")
-    ax[0].set_ylabel("balanced current")
+    ax[0].set_ylabel("balanced current (arb. units)")
     ax[0].set_xlim(t[0] * 1e3, t[0] * 1e3 + (t[-1] - t[0]) * 1e3 * 0.1)
     ax[0].legend(fontsize=8)
-    ax[1].imshow(current.T, aspect="auto", origin="lower", cmap="gray",
-                 extent=[Y[0], Y[-1], t[0] * 1e3, t[-1] * 1e3], interpolation="nearest")
+    im = ax[1].imshow(current.T, aspect="auto", origin="lower", cmap="gray",
+                      extent=[Y[0], Y[-1], t[0] * 1e3, t[-1] * 1e3], interpolation="nearest")
+    fig.colorbar(im, ax=ax[1], label="balanced current (arb. units)")
     ax[1].set_xlabel("along-track position (m)")
     ax[1].set_ylabel("fast time (ms)")
     ax[1].set_title("raw current (scan x fast time)")
@@ -57,22 +58,27 @@ def scene_figure(imgs, paper, design, path):
     -------
     Path
     """
-    fig, ax = plt.subplots(1, 4, figsize=(17, 4.4))
+    fig, ax = _subplots(1, 4, figsize=(18, 5.0))
     ext = _ext(imgs)
     ref = np.abs(imgs.forward).max()
-    ax[0].imshow(_db(imgs.forward, ref).T, origin="lower", extent=ext, cmap="gray", vmin=-30, vmax=0)
-    ax[0].set_title("plain DL-SAL image (forward scans), dB")
+    im = ax[0].imshow(_db(imgs.forward, ref).T, origin="lower", extent=ext, cmap="gray", vmin=-30, vmax=0)
+    ax[0].set_title("plain DL-SAL image\n(forward scans), dB", fontsize=10)
+    fig.colorbar(im, ax=ax[0], label="dB", shrink=0.8)
     lim = np.abs(imgs.combined.real).max()
-    ax[1].imshow(imgs.combined.real.T, origin="lower", extent=ext, cmap="RdBu_r", vmin=-lim, vmax=lim)
-    ax[1].set_title(f"eq 19: forward + backward (real part)\nfringe period {design.fringe_period_x * 1e3:.0f} mm")
+    im = ax[1].imshow(imgs.combined.real.T, origin="lower", extent=ext, cmap="RdBu_r", vmin=-lim, vmax=lim)
+    ax[1].set_title(f"eq 19: forward + backward (real part)\nfringe period {design.fringe_period_x * 1e3:.0f} mm",
+                    fontsize=10)
+    fig.colorbar(im, ax=ax[1], label="amplitude", shrink=0.8)
     ifg = imgs.forward * np.conj(imgs.backward)
-    ax[2].imshow(np.angle(ifg).T, origin="lower", extent=ext, cmap="twilight", vmin=-np.pi, vmax=np.pi)
-    ax[2].set_title("interferogram phase, forward x conj(backward)")
-    ax[3].imshow(_db(paper.combined, ref * 2).T, origin="lower", extent=ext, cmap="gray", vmin=-30, vmax=0)
-    ax[3].set_title("paper order (eq 16 then eq 17), dB:\nbackward scans not focused (spread along track)")
+    im = ax[2].imshow(np.angle(ifg).T, origin="lower", extent=ext, cmap="twilight", vmin=-np.pi, vmax=np.pi)
+    ax[2].set_title("interferogram phase\nforward x conj(backward)", fontsize=10)
+    fig.colorbar(im, ax=ax[2], label="rad", shrink=0.8)
+    im = ax[3].imshow(_db(paper.combined, ref * 2).T, origin="lower", extent=ext, cmap="gray", vmin=-30, vmax=0)
+    ax[3].set_title("paper order (eq 16 then eq 17), dB:\nbackward scans not focused", fontsize=10)
+    fig.colorbar(im, ax=ax[3], label="dB", shrink=0.8)
     for a in ax:
         a.set_xlabel("along track (m)")
-    ax[0].set_ylabel("cross track (m)")
+        a.set_ylabel("cross track (m)")
     return _save(fig, path)
 
 
@@ -95,25 +101,28 @@ def terrain_figures(ter, design, exp, out):
     imgs = ter["images"]
     ext = _ext(imgs)
     gext = [ter["ground_x"][0], ter["ground_x"][-1], ter["ground_y"][0], ter["ground_y"][-1]]
-    fig, ax = plt.subplots(2, 3, figsize=(16, 9.5))
+    fig, ax = _subplots(2, 3, figsize=(17, 10))
     a = ax[0, 0]
     im = a.imshow(ter["ground_z"].T, origin="lower", extent=gext, cmap="terrain")
-    a.set_title("true terrain height (ground coordinates), m")
-    fig.colorbar(im, ax=a)
+    a.set_title("true terrain height\n(ground coordinates)")
+    fig.colorbar(im, ax=a, label="m")
     a.set_xlabel("along track (m)")
     a.set_ylabel("across track, ground (m)")
     a = ax[0, 1]
-    a.imshow(_db(imgs.forward, np.percentile(np.abs(imgs.forward), 99.5)).T, origin="lower", extent=ext, cmap="gray",
-             vmin=-25, vmax=0)
-    a.set_title(f"DL-SAL image at {exp.terrain_look_angle_deg:g} deg look, dB")
+    im = a.imshow(_db(imgs.forward, np.percentile(np.abs(imgs.forward), 99.5)).T, origin="lower", extent=ext,
+                  cmap="gray", vmin=-25, vmax=0)
+    a.set_title(f"DL-SAL image at {exp.terrain_look_angle_deg:g} deg look")
+    fig.colorbar(im, ax=a, label="dB")
     a = ax[0, 2]
-    a.imshow(ter["wrapped"].T, origin="lower", extent=ext, cmap="twilight", vmin=-np.pi, vmax=np.pi)
-    a.set_title("interferogram: wrapped phase (straight fringes)")
+    im = a.imshow(ter["wrapped"].T, origin="lower", extent=ext, cmap="twilight", vmin=-np.pi, vmax=np.pi)
+    a.set_title("interferogram: wrapped phase\n(straight fringes)")
+    fig.colorbar(im, ax=a, label="rad")
     a = ax[1, 0]
     im = a.imshow(ter["ground_fringe"].T, origin="lower", extent=gext, cmap="RdBu_r")
-    a.set_title("what Fig. 2 pictures: fringe phase on the terrain\nin ground coordinates minus flat ground, rad")
-    fig.colorbar(im, ax=a)
+    a.set_title("what Fig. 2 pictures: fringe phase on the\nterrain, ground coordinates, minus flat ground")
+    fig.colorbar(im, ax=a, label="rad")
     a.set_xlabel("along track (m)")
+    a.set_ylabel("across track, ground (m)")
     a = ax[1, 1]
     v = ter["valid"]
     h, r = ter["h_true"][v], ter["residual"][v]
@@ -134,10 +143,13 @@ def terrain_figures(ter, design, exp, out):
     levels = np.linspace(0.1 * top, top, 8)
     cs1 = a.contour(imgs.y, imgs.x, ht.T, levels=levels, colors="tab:green", linewidths=0.9)
     a.clabel(cs1, fontsize=7, fmt="%.2f")
+    rms = float(np.sqrt(np.nanmean(hr ** 2)))
     if np.nanmax(hr) >= levels[0]:
         a.contour(imgs.y, imgs.x, hr.T, levels=levels, colors="tab:red", linewidths=1.0)
-    a.set_title("contour map: true height (green, m)\n"
-                f"from the fringes (red): RMS {np.sqrt(np.nanmean(hr ** 2)):.3f} m")
+        a.set_title(f"contour map: true height (green, m)\nrecovered from the fringes (red): RMS {rms:.3f} m")
+    else:  # nothing to draw: say so rather than promise red lines
+        a.set_title(f"contour map: true height (green, m); the height\nrecovered from the fringes is flat "
+                    f"(RMS {rms:.3f} m, below\nthe lowest contour): no red contour to draw", fontsize=10)
     a.set_xlim(ext[0], ext[1])
     a.set_ylim(ext[2], ext[3])
     for aa in (ax[0, 1], ax[0, 2], ax[1, 2]):
@@ -159,16 +171,18 @@ def disturbance_figure(images, path):
     Path
     """
     n = len(images)
-    fig, ax = plt.subplots(1, n, figsize=(3.6 * n, 4.2))
+    fig, ax = _subplots(1, n, figsize=(3.4 * n + 1.0, 4.4))
     ax = np.atleast_1d(ax)
+    im = None
     for a, (title, (obj, arr)) in zip(ax, images.items()):
         if arr is not None:
             img, y, x = arr, obj.y, obj.x
         else:
             img, y, x = obj["image"].values, obj["azimuth"].values, obj["range"].values
-        a.imshow(_db(img, np.abs(img).max()).T, origin="lower", extent=[y[0], y[-1], x[0], x[-1]], cmap="gray",
-                 vmin=-35, vmax=0)
+        im = a.imshow(_db(img, np.abs(img).max()).T, origin="lower", extent=[y[0], y[-1], x[0], x[-1]], cmap="gray",
+                      vmin=-35, vmax=0)
         a.set_title(textwrap.fill(title, 30), fontsize=8)
         a.set_xlabel("along track (m)")
-    ax[0].set_ylabel("cross track (m)")
+        a.set_ylabel("cross track (m)")
+    fig.colorbar(im, ax=ax, shrink=0.8, label="dB (each panel's peak = 0)")
     return _save(fig, path)

@@ -46,7 +46,7 @@ def write_airborne(result: RunResult, out: Path, page: dict | None = None) -> No
     raw = fig.get("raw")
     if raw is not None and "fast_time" in raw:
         plot.raw_phase_history(raw, out / "raw.png")
-        figs.append(("Raw dechirped data", "raw.png", "Raw dechirped data, real part, pulses against fast time"))
+        figs.append(("Raw dechirped data", "raw.png", "Magnitude of the raw dechirped data, slow time (s) against fast time (us)"))
     timings = fig.get("timings", {})
     render(out, "report.html", result, page, algorithm=alg, window=image.attrs.get("window"),
            t_simulate=timings.get("simulate_s", 0.0), t_focus=timings.get("focus_s", 0.0),
@@ -73,7 +73,13 @@ def write_turbulence(result: RunResult, out: Path, page: dict | None = None) -> 
                                    title=sf["title"])
     plot.ipr_classes_figure(f["cuts"], out / "ipr_classes.png")
     plot.image_grid_figure(f["i_images"], out / "i_target.png")
-    plot.pga_steps_figure(f["i_images"][f["worst"]][0], f["steps"], out / "pga_iterations.png", title=f["worst"])
+    worst = f["worst"]
+    notes = {"focused, no PGA": f"entropy {result.metrics[f'{worst}_i_entropy']:.3f}"}
+    for label in f["steps"]:  # "N iterations (ran K)"
+        e = result.metrics.get(f"{worst}_i_pga{label.split()[0]}_entropy")
+        if e is not None:
+            notes[label] = f"entropy {e:.3f}"
+    plot.pga_steps_figure(f["i_images"][worst][0], f["steps"], out / "pga_iterations.png", title=worst, notes=notes)
     render(out, "turbulence.html", result, page, rows=f["rows"], irw_pslr=tol.IRW_MEANINGFUL_PSLR_DB)
 
 
@@ -93,7 +99,8 @@ def write_chirp(result: RunResult, out: Path, page: dict | None = None) -> None:
     sweeps = result.figures["sweeps"]
     for label, (rows_, cols_, grids, irws) in sweeps.items():
         plot.sweep_heatmaps(rows_, cols_, grids, irws, out / f"{label}.png",
-                            ("d_rlo (m)", "d_r (m)") if label == "table2" else ("R2", "R1"))
+                            ("d_rlo (m)", "d_r (m)") if label == "table2" else
+                            ("R2 (cubic term 1/R2, no unit)", "R1 (quadratic term 1/R1, no unit)"))
     plot.range_profiles_figure(result.datasets["profiles.nc"], out / "profiles.png")
     render(out, "chirp.html", result, page, table1=result.figures["table1"], paper=published()["seed002"]["table1"],
            cells=table3_cells(sweeps["table3"]))

@@ -234,14 +234,14 @@ def run(scenario: Scenario, out_dir=None, progress: Progress = None) -> RunResul
             ("table2", exp.sweep_d_rlo, exp.sweep_d_r, lambda a, b: (coeffs, b, a)),
             ("table3", exp.sweep_r2, exp.sweep_r1, lambda a, b: (coefficients(k, tp, b, a), exp.d_r, exp.d_rlo)))):
         if progress:
-            progress("sweep tables", i, 2)
+            progress("tables swept", i, 2)
         g = sweep(rows_, cols_, make, t, fs, f0, k, a_delay)
         sweeps[label] = (rows_, cols_, g["ratio"], g["irw"])
         for meth in METHODS:
             for suffix, q in (("", "ratio"), ("_irw_m", "irw"), ("_pslr_db", "pslr"), ("_islr_db", "islr")):
                 tables[f"{label}_{meth}{suffix}.csv"] = grid_csv(rows_, cols_, g[q][meth])
     if progress:
-        progress("sweep tables", 2, 2)
+        progress("tables swept", 2, 2)
     irws = sweeps["table3"][3]  # success on Table 3: range IRW within 5 % of the ideal chirp's
     for meth in ("paper", "deskew", "resample"):
         metrics[f"table3_{meth}_cells_within_5pct_of_ideal"] = int(np.nansum(np.abs(irws[meth] / irws["ideal"] - 1) <= CHIRP_IRW_OF_IDEAL))

@@ -290,7 +290,7 @@ def disturbance_experiment(sc, exp, d: DLDesign, progress: Progress = None) -> d
     out["cases"]["none"] = base_m
     for i, (key, label) in enumerate(cases):
         if progress:
-            progress("disturbance cases", i, len(cases))
+            progress("cases of disturbance", i, len(cases))
         dist = make_disturbances(exp, d, Y, key, exp.disturbance.seed + i)
         _, _, _, imgs, _ = point_run(sc, d, exp, np.random.default_rng(sc.seed + 101), dist=dist, points=pts,
                                      half_window=0.3)
@@ -313,7 +313,7 @@ def disturbance_experiment(sc, exp, d: DLDesign, progress: Progress = None) -> d
         sl0, sl1 = out["cases"]["side_clean"], out["cases"]["side_vibration"]
         sl1["peak_ratio"] = sl1["peak_amplitude"] / sl0["peak_amplitude"]
     if progress:
-        progress("disturbance cases", len(cases), len(cases))
+        progress("cases of disturbance", len(cases), len(cases))
     out["images"] = images
     return out
 

@@ -207,14 +207,14 @@ def run(scenario: Scenario, out_dir=None, progress: Progress = None) -> RunResul
         warnings.filterwarnings("ignore", message="processing.grid spans")
         for ci, (name, cn2) in enumerate(exp.classes.items()):
             if progress:
-                progress("turbulence classes", ci, len(exp.classes))
+                progress("classes of turbulence", ci, len(exp.classes))
             m, imgs, row = class_images(scenario, name, cn2, i_pts)
             metrics.update(m)
             rows.append(row)
             data[f"image_{name}.nc"], data[f"image_{name}_pga.nc"] = imgs["point"], imgs["point_pga"]
             cuts[name], i_images[name] = imgs["cuts"], imgs["i"]
         if progress:
-            progress("turbulence classes", len(exp.classes), len(exp.classes))
+            progress("classes of turbulence", len(exp.classes), len(exp.classes))
     ref = min(rows, key=lambda r: r["cn2"])["peak_amplitude"]  # the weakest class, turbulence-free if present
     for r in rows:  # peak over the reference peak: the damage where a broken peak makes IRW meaningless
         r["peak_ratio"] = metrics[f"{r['name']}_peak_ratio"] = r["peak_amplitude"] / ref
