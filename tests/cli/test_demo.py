@@ -31,3 +31,8 @@ def test_every_demo_report_resolves(tmp_path):
             assert re.search(r'alt="[^"]{10,}"', img), f"{name}: image without alt text: {img}"
         assert f"salkit {__version__}" in html and "<h2>Files</h2>" in html, name
         assert "<details><summary>Resolved scenario" in html, name
+    # the README quotes this run: its generated blocks (captions, files per example) must match it
+    from pathlib import Path
+    from salkit.report.docs import blocks, read_blocks
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text()
+    assert read_blocks(readme) == blocks(tmp_path), "README is stale: run make docs-figures"

@@ -9,6 +9,7 @@ from .. import __version__
 from .. import tolerances as tol
 from ..io.datasets import write_text_atomic
 from ..units import display
+from . import environment
 
 #: The figure shown on each kind of run's card, first found wins.
 THUMBNAILS = ("image.png", "i_target.png", "stack.png", "table3.png", "image_point.png", "scene.png")
@@ -113,7 +114,6 @@ def write_index(out_dir: str | Path, runs: list[dict]) -> Path:
     -------
     Path
     """
-    from . import environment
     out = Path(out_dir)
     cards = []
     for r in runs:
