@@ -26,12 +26,12 @@ __getattr__, __dir__, _ = _lazy.attach(
     submodules=["atmosphere", "autofocus", "focus", "geometry", "interferometry", "io", "metrics", "params",
                 "plot", "report", "resources", "signals", "simulate", "stack", "systems", "choices", "papers",
                 "tolerances"],
-    submod_attrs={"params": ["Scenario", "load_scenario"], "focus": ["range_compress"],
+    submod_attrs={"params": ["Scenario", "load_scenario", "example_path"], "focus": ["range_compress"],
                   "metrics": ["measure"], "geometry": ["truth_positions"]},
 )
 
 __all__ = [
     "__version__", "SalkitError", "ScenarioError", "SamplingError", "DataFileError",
-    "Scenario", "load_scenario", "simulate", "focus", "range_compress", "measure",
+    "Scenario", "load_scenario", "example_path", "simulate", "focus", "range_compress", "measure",
     "truth_positions",
 ]

@@ -40,14 +40,9 @@ def _plain_argument_help() -> None:
 
 _plain_argument_help()
 
-EXAMPLES_DIR = Path(__file__).resolve().parents[1] / "examples"
-
-
 def _examples_dir() -> Path:
-    for cand in (EXAMPLES_DIR, Path(__file__).resolve().parents[3] / "examples"):
-        if cand.is_dir():
-            return cand
-    return EXAMPLES_DIR
+    from ..params.scenario import examples_dir
+    return examples_dir()
 
 
 _STATE = {"debug": False}

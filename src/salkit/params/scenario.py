@@ -219,3 +219,47 @@ def dump_scenario(scenario: Scenario | DownlookingScenario) -> str:
     """
     data = scenario.model_dump(mode="json")
     return yaml.dump(data, Dumper=getattr(yaml, "CSafeDumper", yaml.SafeDumper), sort_keys=False)
+
+
+def examples_dir() -> Path:
+    """The folder of the shipped example scenarios (installed with the package, or the
+    repository's ``examples/`` in a source checkout).
+
+    Returns
+    -------
+    Path
+    """
+    here = Path(__file__).resolve()
+    for cand in (here.parents[1] / "examples", here.parents[3] / "examples"):
+        if cand.is_dir():
+            return cand
+    return here.parents[1] / "examples"
+
+
+def example_path(name: str) -> Path:
+    """The path of a shipped example scenario.
+
+    Parameters
+    ----------
+    name : str
+        File name with or without ``.yaml`` (``salkit examples`` lists them).
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    ScenarioError
+        When there is no such example.
+
+    Examples
+    --------
+    >>> example_path("spotlight_points").name
+    'spotlight_points.yaml'
+    """
+    p = examples_dir() / (name if name.endswith(".yaml") else f"{name}.yaml")
+    if not p.is_file():
+        known = ", ".join(sorted(f.stem for f in examples_dir().glob("*.yaml")))
+        raise ScenarioError("example", name, f"no such shipped example; known: {known}")
+    return p
