@@ -29,6 +29,12 @@ NAMED: dict[str, str] = {
     "nyquist_spacing_y": "m", "lens_width_forward": "m", "lens_width_backward": "m",
     "lens_width_paper_forward": "m", "lens_width_paper_backward": "m", "transmit_pupil_diameter": "m",
     "coupling_length": "m", "wavelength_derived": "",
+    # attributes of salkit's data files (docs/data-format.md)
+    "carrier_frequency": "Hz", "chirp_rate": "Hz/s", "bandwidth": "Hz", "pulse_width": "s", "real_aperture": "m",
+    "center_position": "m", "scene_center": "m", "aperture_center": "m", "plane_origin": "m", "grid_dx": "m",
+    "grid_dy": "m", "frequency_min": "Hz", "frequency_max": "Hz", "fringe_period_theory": "m",
+    "irw_azimuth_theory": "m", "irw_range_theory": "m", "islr_theory": "dB", "pslr_theory": "dB",
+    "illuminated_azimuth": "m", "illuminated_range": "m", "range_reference": "m", "collection_time_nominal": "s",
 }
 
 #: Units a value is shown in so that it stays between 1 and 1000 (largest first).

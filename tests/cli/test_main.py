@@ -60,8 +60,36 @@ def test_simulate_then_focus_with_other_algorithm(tmp_path, scen):
     assert r.returncode == 0, r.stderr
     m = json.loads((tmp_path / "f" / "metrics.json").read_text())
     assert m["irw_azimuth_m"] == pytest.approx(m["irw_azimuth_theory_m"], rel=0.03)
-    assert salkit("info", raw).returncode == 0
+    r = salkit("info", raw)
+    assert r.returncode == 0
+    d = json.loads(r.stdout)  # typed: flags are booleans, numbers numbers, with their units
+    assert d["iq"] is True and d["noise_added"] is False and isinstance(d["prf"], float)
+    assert d["units"]["prf"] == "Hz" and d["units"]["pulse_width"] == "s" and d["units"]["center_position"] == "m"
     assert salkit("info", scen).returncode == 0
+
+
+@pytest.mark.parametrize("name", sorted(p.stem for p in EXAMPLES.glob("*.yaml")))
+def test_info_on_every_shipped_example(name):
+    """`salkit info` works where `salkit run` does (an experiment checks its own sampling), and says
+    the unit of every quantity it prints."""
+    r = salkit("info", EXAMPLES / f"{name}.yaml")
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    assert d["name"] == name and d["units"]
+    from salkit.units import NAMED
+    for k, v in d.items():
+        if k.endswith("_m") and k not in NAMED and isinstance(v, (int, float)):
+            assert d["units"][k] == "m", k
+
+
+def test_help_names_units_and_no_python_types():
+    for cmd in ("run", "simulate", "focus", "screen", "export", "convert"):
+        out = salkit(cmd, "--help").stdout
+        assert "<bool>" not in out and "<list[str]>" not in out and "{" not in out.split("\n")[0], cmd
+    focus_help = salkit("focus", "--help").stdout
+    for opt in ("--nx PIXELS", "--dx METRES", "--dy METRES"):
+        assert opt in focus_help
+    assert "salkit " in salkit("--version").stdout
 
 
 @pytest.mark.parametrize("args,needle", [

@@ -450,7 +450,8 @@ def screen(n: int = typer.Option(..., "--n", metavar="SAMPLES", help="screen siz
 
 
 #: Attributes stored as 0/1 (NetCDF has no booleans) that mean yes/no.
-FLAG_KEYS = frozenset({"iq", "wavelength_derived", "speckle", "beam_weighting"})
+FLAG_KEYS = frozenset({"iq", "wavelength_derived", "design_wavelength_derived", "speckle", "beam_weighting",
+                       "rvp_removed", "noise_added"})
 
 
 def _typed(d):
@@ -471,8 +472,10 @@ def _typed(d):
 def _with_units(d: dict) -> dict:
     """``d`` with a ``units`` map: every key whose unit is known (:func:`salkit.units.unit_of`)."""
     from ..units import unit_of
-    units = {k: unit_of(k) for k, v in d.items() if isinstance(v, (int, float)) and not isinstance(v, bool)
-             and unit_of(k)}
+    def numeric(v):
+        return (isinstance(v, (int, float)) and not isinstance(v, bool)) or (
+            isinstance(v, list) and bool(v) and all(numeric(x) for x in v))
+    units = {k: unit_of(k) for k, v in d.items() if numeric(v) and unit_of(k)}
     return {**d, "units": units}
 
 
