@@ -17,7 +17,10 @@ def test_target_in_speckle_has_no_pslr_verdict():
     m = {"irw_range_m": 0.0180, "irw_range_theory_m": 0.0180, "pslr_range_db": -7.4, "pslr_range_theory_db": -13.26,
          "image_snr": 3.0}
     pslr = [i for i in headline(m) if "PSLR" in i["label"]][0]
-    assert pslr["ok"] is None and "speckle" in pslr["label"]
+    assert pslr["ok"] is None and "scene" in pslr["label"]
+    m.pop("image_snr")
+    m["extended_scene"] = 1  # a noiseless scene: the same
+    assert [i for i in headline(m) if "PSLR" in i["label"]][0]["ok"] is None
 
 
 def test_stack_judged_by_its_gain_not_by_eq15_on_a_shaped_target():

@@ -182,7 +182,8 @@ def run(scenario: Scenario, out_dir=None, progress: Progress = None) -> RunResul
     metrics.update(af_metrics)
     metrics.update({f"sampling_{k}": v for k, v in samp.as_dict().items()})
     metrics.update({"n_pulses": raw.sizes["slow_time"], "n_samples": raw.sizes["fast_time"],
-                    "simulate_s": t_sim, "focus_s": t_focus})
+                    "simulate_s": t_sim, "focus_s": t_focus,
+                    "extended_scene": int(scenario.scene.extended is not None)})  # targets sit in clutter
     if scenario.receiver.noise.enabled:
         metrics.update(noise_metrics(scenario, col, raw, image, details))
     return RunResult("airborne", scenario.name, scenario.description, dump_scenario(scenario), metrics, data,
