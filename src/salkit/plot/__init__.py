@@ -30,6 +30,14 @@ def _save(fig, path: str | Path) -> Path:
     return Path(path)
 
 
+def _log_ticks(ax) -> None:
+    """1-2-5 ticks with plain numbers on a log-log axes (no run-together 2x10^0 labels)."""
+    for axis in (ax.xaxis, ax.yaxis):
+        axis.set_major_locator(matplotlib.ticker.LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+        axis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+        axis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+
+
 def image_db(image_ds, path, title: str = "", dynamic_range: float = 40.0, truth=None) -> Path:
     """The image magnitude in dB (peak 0 dB), axes in metres, expected target positions marked.
 
@@ -229,6 +237,7 @@ def structure_function_figure(r, d, err, theory, out, title="") -> Path:
     """
     fig, axes = _subplots(1, 2, figsize=(11, 3.8))
     axes[0].loglog(r, theory, "k-", label="theory 6.88 (r/r0)^(5/3)")
+    _log_ticks(axes[0])
     axes[0].errorbar(r, d, yerr=err, fmt="o", ms=3, label="ensemble")
     axes[0].set_xlabel("separation (m)")
     axes[0].set_ylabel("D(r) (rad^2)")
@@ -476,10 +485,7 @@ def spaceborne_figures(truth, fig7, single, stack, counts, curve, snr1_theory, a
     ax.loglog(c, snr1_theory * np.sqrt(c), "k--", label="sqrt(P) x eq 15")
     ax.set_xlabel("sub-images stacked, P")
     ax.set_ylabel("image SNR")
-    for axis in (ax.xaxis, ax.yaxis):  # 1-2-5 ticks, plain numbers (no run-together 2x10^0 labels)
-        axis.set_major_locator(matplotlib.ticker.LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
-        axis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
-        axis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+    _log_ticks(ax)
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3, which="both")
     _save(fig, out / "snr_vs_p.png")
