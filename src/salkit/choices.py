@@ -4,6 +4,8 @@ from .errors import ScenarioError
 
 #: Image formers: backprojection, polar format, omega-k, fast factorised backprojection.
 ALGORITHMS = ("bp", "pfa", "omegak", "ffbp")
+#: How the space-borne experiment stacks its sub-images.
+STACK_MODES = ("incoherent", "coherent")
 #: Amplitude windows.
 WINDOWS = ("none", "hamming", "taylor")
 #: Image planes of a grid.

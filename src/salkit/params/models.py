@@ -11,7 +11,7 @@ from typing import Annotated, Literal, Optional, Union
 
 from pydantic import BaseModel, ConfigDict, Discriminator, Field, Tag, field_validator, model_validator
 
-from ..choices import ALGORITHMS, AUTOFOCUS_METHODS, CHIRP_CORRECTIONS, PGA_KERNELS, PLANES, WINDOWS
+from ..choices import ALGORITHMS, AUTOFOCUS_METHODS, CHIRP_CORRECTIONS, PGA_KERNELS, PLANES, STACK_MODES, WINDOWS
 from ..constants import SPEED_OF_LIGHT
 
 
@@ -398,6 +398,9 @@ class StackSettings(_Frozen):
 
     max_subimages: Optional[int] = Field(default=None, ge=1, description="the N sub-apertures nearest closest approach")
     workers: int = Field(default=2, ge=1, le=64)
+    mode: Literal[STACK_MODES] = Field(default="incoherent", description=(
+        "incoherent: mean intensity (speckle and noise average down, resolution stays); coherent: "
+        "phase-aligned complex sum (the combined aperture's finer resolution, one look)"))
     scheduler: Optional[str] = Field(default=None, description="address of an existing Dask scheduler")
 
     @field_validator("scheduler")

@@ -46,6 +46,7 @@ def environment() -> Environment:
     """
     env = Environment(loader=PackageLoader("salkit", "report/templates"), autoescape=select_autoescape(["html"]))
     env.filters["q"] = lambda v, name="", digits=4: " ".join(x for x in display(name, v, digits) if x)
+    env.globals["zip"] = zip
     return env
 
 

@@ -56,6 +56,11 @@ def headline(metrics: dict) -> list[dict]:
             items.append({"label": f"stack gain, {m['stack_count']} sub-images", "measured": f"{gain:.3g}",
                           "reference": f"sqrt(P) {want:.3g}", "delta": f"ratio {gain / want:.3f}",
                           "ok": abs(gain / want - 1) <= tol.SNR_RATIO})
+        coh = sorted(int(k.split("_")[3]) for k in m if k.startswith("coherent_irw_azimuth_") and "theory" not in k)
+        if coh:
+            items.append(_ratio_item(f"coherent stack IRW, P = {coh[-1]}", m, f"coherent_irw_azimuth_{coh[-1]}_m",
+                                     f"coherent_irw_azimuth_{coh[-1]}_theory_m", tol.IRW_RATIO,
+                                     "0.886 lambda L0/(2 P L_sa)"))
     elif "A_resample_irw_m" in m:  # nonlinear chirp (seed 002)
         items += [_ratio_item("point A range IRW, resampling", m, "A_resample_irw_m", "A_ideal_irw_m",
                               tol.CHIRP_IRW_OF_IDEAL, "ideal chirp"),

@@ -125,7 +125,11 @@ def write_spaceborne(result: RunResult, out: Path, page: dict | None = None) -> 
                                   f["sub_length"], q), max_squint_for(1.1), out / "resolution_squint.png")
     plot.spaceborne_figures(f["truth"], f["fig7"], f["single"], f["stack"], f["counts"], f["curve"], f["snr_theory"],
                             f["az"], f["rg"], out)
-    render(out, "spaceborne.html", result, page)
+    if "coherent" in f:
+        plot.coherent_stack_figure(f["coherent"]["image"], f["stack"], f["az"], f["rg"], f["coherent"]["resolution"],
+                                   out / "coherent.png")
+    render(out, "spaceborne.html", result, page, coherent=f.get("coherent", {}).get("resolution"),
+           grid_dx=float(f["az"][1] - f["az"][0]))
 
 
 WRITERS["spaceborne_geo"] = write_spaceborne
