@@ -12,6 +12,7 @@ from scipy.special import j1
 
 from ..constants import SPEED_OF_LIGHT
 from ..params.models import Grid, Scenario
+from .orbit import keplerian_positions
 
 
 @dataclass(frozen=True)
@@ -299,6 +300,11 @@ def build_collection(scenario: Scenario) -> Collection:
         vel = np.broadcast_to(d * p.speed, pos.shape).copy()
         track = d
         cpos = closest + u_c * d
+        if p.trajectory == "keplerian" and p.orbit is not None:  # each pulse onto the true relative orbit
+            o = p.orbit
+            pos = keplerian_positions(pos, closest, d, p.speed, o.r1, o.r2, o.attitude)
+            vel = np.gradient(pos, t, axis=0) if n > 1 else vel
+            cpos = pos[n // 2]
     if p.mode == "spotlight":
         bore = _unit(centre[None, :] - pos)
     else:

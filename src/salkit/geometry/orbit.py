@@ -192,3 +192,73 @@ def straight_line_error(r1: float, r2: float, squint_max_deg: float, n: int = 20
     line_range = np.hypot(L0, V * t)
     return {"collection_time_s": 2 * T, "max_range_difference_m": float(np.max(np.abs(true_range - line_range))),
             "range_difference_at_edges_m": float(true_range[-1] - line_range[-1])}
+
+
+#: Attitudes of the target that fix the frame its scatterers are fixed in.
+ATTITUDES = ("inertial", "earth_pointing")
+
+
+def relative_positions(r1: float, r2: float, t: np.ndarray, attitude: str = "inertial") -> np.ndarray:
+    """The SAL's position relative to the target on the true (two-body) circular coplanar orbits,
+    in the frame the target's scatterers are fixed in, (len(t), 2) m: x along the relative motion
+    at closest approach (t = 0), z radial outward, the SAL at z = -(r2 - r1) at t = 0.
+
+    ``inertial``: a target that holds its attitude in inertial space (the frame of
+    :func:`relative_trajectory`); differential gravity curves the path 2 GM (r2 - r1) / r^3 off
+    the line. ``earth_pointing``: a target that turns with its orbit (a 3-axis stabilised
+    satellite facing the Earth): the path is an arc of radius r1 about the Earth's centre, at
+    r1 (w1 - w2), about 3 times the inertial relative speed at GEO.
+
+    Parameters
+    ----------
+    r1, r2 : float
+        Orbit radii of the SAL and the target, m.
+    t : float64 array
+        Time from closest approach, s.
+    attitude : {"inertial", "earth_pointing"}
+
+    Returns
+    -------
+    float64 (len(t), 2)
+        m.
+    """
+    t = np.asarray(t, dtype=np.float64)
+    if attitude == "inertial":
+        rel = relative_trajectory(r1, r2, t)
+        # relative_trajectory's x is the target's velocity direction; the SAL moves along +x relative to it
+        return np.stack([rel[:, 0], rel[:, 1]], axis=1)
+    if attitude == "earth_pointing":
+        dw = math.sqrt(GM_EARTH / r1 ** 3) - math.sqrt(GM_EARTH / r2 ** 3)
+        return np.stack([r1 * np.sin(dw * t), r1 * np.cos(dw * t) - r2], axis=1)
+    raise ScenarioError("experiment.target_attitude", attitude, f"must be one of {', '.join(ATTITUDES)}")
+
+
+def keplerian_positions(straight: np.ndarray, closest: np.ndarray, track: np.ndarray, speed: float, r1: float,
+                        r2: float, attitude: str = "inertial") -> np.ndarray:
+    """Per-pulse antenna positions on the true relative orbit, in the scene frame of a straight-line
+    collection: the pulse at along-track coordinate u (time u / speed from closest approach) is moved
+    to the true relative position at that time (float64 throughout).
+
+    Parameters
+    ----------
+    straight : float64 (P, 3)
+        Straight-line positions of the pulses, m (scene centre at the origin).
+    closest : float64 (3,)
+        The line's point of closest approach, m.
+    track : float64 (3,)
+        Unit track direction.
+    speed : float
+        The line's speed, m/s.
+    r1, r2 : float
+        Orbit radii, m.
+    attitude : {"inertial", "earth_pointing"}
+
+    Returns
+    -------
+    float64 (P, 3)
+        m.
+    """
+    e_r = closest / np.linalg.norm(closest)
+    u = (straight - closest) @ track
+    rel = relative_positions(r1, r2, u / speed, attitude)
+    return rel[:, :1] * track[None, :] - rel[:, 1:] * e_r[None, :]

@@ -242,12 +242,16 @@ def check_sampling(scenario: Scenario, col: Collection | None = None) -> Samplin
                             "omega-k needs stripmap mode on a straight track")
     res = resolution_theory(scenario, col)
     g = proc.grid
-    speed = float(np.linalg.norm(col.velocity[col.n_pulses // 2]))
+    # the line of sight turns at v_perp / R: the velocity across it sets the azimuth ambiguity (a
+    # radial part, as on a curved orbit, only moves the range)
+    v_c = col.velocity[col.n_pulses // 2]
+    los = col.center_position / max(float(np.linalg.norm(col.center_position)), 1e-30)
+    speed = max(float(np.linalg.norm(v_c - (v_c @ los) * los)), 1e-30)
     r_c = float(np.linalg.norm(col.center_position))
     unamb = lam * r_c * w.prf / (2.0 * speed)
     if p.mode == "spotlight" and g.nx * g.dx > unamb * (1 + 1e-9):
         warnings.warn(f"processing.grid spans {g.nx * g.dx:.4g} m in azimuth, more than the unambiguous "
-                      f"azimuth extent lambda R PRF / 2v = {unamb:.4g} m: targets would repeat in the image",
+                      f"azimuth extent lambda R PRF / 2v (v across the line of sight) = {unamb:.4g} m: targets would repeat in the image",
                       UserWarning, stacklevel=2)
     # complex Nyquist: spacing <= resolution; 1 % over loses <= 1 % of the band edge (seed 004's
     # 0.01 m grid is 0.04 % coarser than its c/2B) and the algorithms keep the support that fits

@@ -132,6 +132,22 @@ class PhaseError(_Frozen):
         return self.amplitude * (r - r.mean()) / r.std()
 
 
+class RelativeOrbit(_Frozen):
+    """Two circular coplanar orbits (the SAL inside the target's) and the target's attitude: the
+    true relative motion of a space-borne collection (:func:`salkit.geometry.orbit.relative_positions`)."""
+
+    r1: float = Field(gt=0, description="SAL orbit radius, m")
+    r2: float = Field(gt=0, description="target orbit radius, m")
+    attitude: Literal["inertial", "earth_pointing"] = Field(default="inertial", description=(
+        "the frame the target's scatterers are fixed in"))
+
+    @model_validator(mode="after")
+    def _radii(self) -> "RelativeOrbit":
+        if not self.r1 < self.r2:
+            raise ValueError(f"r1 = {self.r1} m must be below r2 = {self.r2} m")
+        return self
+
+
 class Platform(_Frozen):
     """Straight-line platform (or explicit per-pulse positions) with its beam pointing.
 
@@ -153,6 +169,10 @@ class Platform(_Frozen):
     positions: Optional[tuple[tuple[float, float, float], ...]] = Field(
         default=None, description="explicit antenna position per pulse, m (overrides the straight line)")
     intra_pulse_motion: bool = Field(default=False, description="model motion during each pulse")
+    trajectory: Literal["straight", "keplerian"] = Field(default="straight", description=(
+        "straight: the line at speed; keplerian: each pulse moved onto the true relative orbit "
+        "(``orbit``, set by the space-borne experiment from its radii)"))
+    orbit: Optional[RelativeOrbit] = Field(default=None, description="the relative orbit of a keplerian trajectory")
     phase_error: Optional[PhaseError] = Field(default=None, description="known per-pulse phase error")
 
     @model_validator(mode="after")
@@ -161,6 +181,8 @@ class Platform(_Frozen):
             raise ValueError("altitude and standoff cannot both be 0 (zero range to scene centre)")
         if self.positions is not None and len(self.positions) < 2:
             raise ValueError(f"positions has {len(self.positions)} pulses; at least 2 are needed")
+        if self.trajectory == "keplerian" and self.positions is not None:
+            raise ValueError("trajectory keplerian moves the straight line onto the orbit: give no positions")
         return self
 
     @property
@@ -419,6 +441,9 @@ class SpaceborneExperiment(_Frozen):
     r2: float = Field(default=42_178e3, gt=0, description="target orbit radius, m")
     squint_max_deg: float = Field(default=5.0, gt=0, lt=90)
     resolution: float = Field(default=0.05, gt=0, description="along-track resolution at zero squint, m")
+    target_attitude: Literal["inertial", "earth_pointing"] = Field(default="inertial", description=(
+        "with platform.trajectory keplerian: the frame the target is fixed in (inertial, as the "
+        "seed's straight line at V assumes, or turning with its orbit, facing the Earth)"))
 
     @model_validator(mode="after")
     def _orbits(self) -> "SpaceborneExperiment":
@@ -462,6 +487,10 @@ class Scenario(_ScenarioBase):
 
     @model_validator(mode="after")
     def _beam(self) -> "Scenario":
+        if (self.platform.trajectory == "keplerian" and self.platform.orbit is None
+                and not (self.experiment is not None and self.experiment.kind == "spaceborne_geo")):
+            raise ValueError("platform.trajectory keplerian needs the orbits: a spaceborne_geo experiment "
+                             "(or platform.orbit)")
         lam, D = self.waveform.wavelength, self.platform.real_aperture
         if not 1.2196698912665045 * lam / D < 0.5:
             raise ValueError(f"platform.real_aperture = {D:g} m is too small for wavelength {lam:g} m: the "

@@ -535,6 +535,39 @@ def coherent_stack_figure(image, stack_incoherent, az, rg, res, path) -> Path:
     return _save(fig, path)
 
 
+def trajectory_figure(fig_data, path) -> Path:
+    """The point target on the true relative orbit, focused with the true positions, the tangent
+    line and the seed's straight line: peak (over the true processing's) and PSLR against squint.
+
+    Parameters
+    ----------
+    fig_data : dict
+        :func:`salkit.systems.spaceborne.trajectory_study`'s figure data.
+    path : path
+
+    Returns
+    -------
+    Path
+    """
+    q = fig_data["squints"]
+    labels = {"true": "true positions (BP)", "tangent": "tangent line at the sub-aperture centre",
+              "line": "the seed's straight line at V"}
+    fig, axes = _subplots(1, 2, figsize=(11, 3.8))
+    for k, lab in labels.items():
+        axes[0].plot(q, fig_data[k]["peak"], "o-", label=lab)
+        axes[1].plot(q, fig_data[k]["pslr"], "o-", label=lab)
+    axes[0].set_yscale("log")
+    axes[0].set_ylim(1e-3, 2)
+    axes[0].set_ylabel("peak / true processing's peak")
+    axes[1].axhline(-13.26, color="k", ls=":", lw=1, label="sinc -13.26 dB")
+    axes[1].set_ylabel("azimuth PSLR (dB)")
+    for ax in axes:
+        ax.set_xlabel("squint (deg)")
+        ax.grid(alpha=0.3)
+    axes[1].legend(fontsize=8)
+    return _save(fig, path)
+
+
 def resolution_squint_figure(squints, measured, q, theory, qm, path) -> Path:
     """Seed 001 fig 5: along-track resolution against squint, eq 12 (``theory`` at squints ``q``,
     deg, m) and measured points; ``qm`` the squint within which it stays within 1.1x.

@@ -125,10 +125,14 @@ def write_spaceborne(result: RunResult, out: Path, page: dict | None = None) -> 
                                   f["sub_length"], q), max_squint_for(1.1), out / "resolution_squint.png")
     plot.spaceborne_figures(f["truth"], f["fig7"], f["single"], f["stack"], f["counts"], f["curve"], f["snr_theory"],
                             f["az"], f["rg"], out)
+    if "trajectory" in f:
+        plot.trajectory_figure(f["trajectory"], out / "trajectory.png")
     if "coherent" in f:
         plot.coherent_stack_figure(f["coherent"]["image"], f["stack"], f["az"], f["rg"], f["coherent"]["resolution"],
                                    out / "coherent.png")
     render(out, "spaceborne.html", result, page, coherent=f.get("coherent", {}).get("resolution"),
+           trajectory=f.get("trajectory"), processings={"true": "true positions (BP)", "tangent": "tangent line",
+                                                        "line": "seed's straight line"},
            grid_dx=float(f["az"][1] - f["az"][0]))
 
 

@@ -16,7 +16,7 @@ import numpy as np
 from ..focus import ImageGrid, focus, get_former, phase_history, run_memory_estimate
 from ..signals.windows import Window
 from ..metrics.pointtarget import ipr_1d
-from ..params.models import PointTarget, Scenario, Scene
+from ..params.models import PointTarget, RelativeOrbit, Scenario, Scene
 from ..simulate import photon_noise, simulate
 from ..geometry.orbit import relative_speed, subaperture_length
 from ..params.scenario import parse_scenario
@@ -70,8 +70,11 @@ def geo_base(scenario: Scenario) -> Scenario:
     L0 = exp.r2 - exp.r1
     V = relative_speed(exp.r1, exp.r2)
     L = subaperture_length(scenario.waveform.wavelength, L0, exp.resolution)
+    orbit = (RelativeOrbit(r1=exp.r1, r2=exp.r2, attitude=exp.target_attitude)
+             if scenario.platform.trajectory == "keplerian" else None)
     p = scenario.platform.model_copy(update={"mode": "spotlight", "speed": V, "standoff": L0, "altitude": 0.0,
-                                             "aperture_length": L, "squint_deg": 0.0, "positions": None})
+                                             "aperture_length": L, "squint_deg": 0.0, "positions": None,
+                                             "orbit": orbit})
     return scenario.model_copy(update={"platform": p, "experiment": None})
 
 
