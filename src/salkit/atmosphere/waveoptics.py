@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.fft as sfft
+import xarray as xr
 
 from ..constants import FFT_WORKERS
 from ..errors import SamplingError
@@ -176,7 +177,7 @@ def plan_sampling(wavelength: float, distance: float, cn2: float, *, layers: int
     if n > MAX_N:
         raise SamplingError("propagate grid", n, f"needs {n} x {n} samples (spacing {dx:.3g} m for r0 {r0:.3g} m "
                             f"and Fresnel scale {fresnel:.3g} m, width {width:.3g} m), more than {MAX_N}: "
-                            "shorten the path, lower Cn2 or give a coarser --dx")
+                            "shorten the path or lower Cn2")
     if layers is None:
         layers = 10
         if cn2 > 0:
@@ -337,3 +338,57 @@ def wave_structure_function(fields: np.ndarray, dx: float, max_lag: int | None =
         g = 0.5 * (np.mean(u[..., s:] * np.conj(u[..., :-s])) + np.mean(u[..., s:, :] * np.conj(u[..., :-s, :])))
         d.append(-2.0 * math.log(abs(g) / m0))
     return lags * dx, np.asarray(d)
+
+
+def propagation_result(wave: str, wavelength: float, cn2: float, distance: float, count: int, seed: int = 0,
+                       layers: int | None = None) -> tuple[xr.Dataset, dict]:
+    """An ensemble propagated and measured: the received fields as a dataset and the figures
+    against theory (what ``salkit propagate`` writes).
+
+    Parameters
+    ----------
+    wave : {"plane"}
+        Spherical waves (a point source with an absorbing boundary) are not modelled yet.
+    wavelength, distance : float
+        m.
+    cn2 : float
+        m^(-2/3).
+    count : int
+        Realisations.
+    seed : int
+    layers : int, optional
+        Phase screens (default: :func:`plan_sampling`'s).
+
+    Returns
+    -------
+    (xarray.Dataset, dict)
+        ``field`` (realisation, y, x) complex64 with coordinates in m, and metrics:
+        ``rytov_variance``, ``scintillation_index``, ``scintillation_index_theory`` (Andrews-Phillips),
+        ``r0_plane_m``, ``r0_spherical_m``, the sampling.
+
+    Raises
+    ------
+    SamplingError
+        For a spherical wave, or a case that cannot be sampled (:func:`plan_sampling`).
+    """
+    if wave != "plane":
+        raise SamplingError("--wave", wave, "only plane waves are modelled so far (a spherical wave needs a point "
+                            "source with an absorbing boundary, not yet built)")
+    s = plan_sampling(wavelength, distance, cn2, layers=layers)
+    fields, s = plane_wave_ensemble(wavelength, distance, cn2, count, seed=seed, sampling=s)
+    x = (np.arange(s.n) - s.n // 2) * s.dx
+    sig = rytov_variance(cn2, wavelength, distance, wave)
+    metrics = {"rytov_variance": sig, "scintillation_index": scintillation_index(fields),
+               "scintillation_index_theory": scintillation_theory(sig, wave),
+               "r0_plane_m": fried_parameter(cn2, wavelength, distance) if cn2 > 0 else math.inf,
+               "r0_spherical_m": fried_parameter(cn2, wavelength, distance, "spherical") if cn2 > 0 else math.inf,
+               "grid_n": s.n, "grid_dx_m": s.dx, "layers": s.layers, "layer_r0_m": s.layer_r0,
+               "realisations": count}
+    ds = xr.Dataset({"field": (("realisation", "y", "x"), fields)},
+                    coords={"realisation": np.arange(count), "y": x, "x": x},
+                    attrs={"salkit_kind": "propagated_field", "wave": wave, "wavelength": wavelength, "cn2": cn2,
+                           "distance": distance, "seed": seed, "layers": s.layers, "grid_dx": s.dx,
+                           "description": "complex field at the receiver plane, unit plane wave transmitted, "
+                                          "split-step angular spectrum through periodic Kolmogorov screens"})
+    ds["x"].attrs["units"] = ds["y"].attrs["units"] = "m"
+    return ds, metrics
