@@ -17,21 +17,13 @@ import numpy as np
 import scipy.fft as sfft
 from numba import njit, prange
 
+from ..signals.phase import sincos_cycles
 from ..constants import FFT_WORKERS, SPEED_OF_LIGHT
 
 WORKERS = FFT_WORKERS
 
 
-@njit(cache=True, inline="always", fastmath=True)
-def _sincos_cycles(y):
-    """sin and cos of 2*pi*y for y in [-0.5, 0.5], float32 polynomial (|error| < 1e-5)."""
-    t = np.float32(math.pi) * y  # in [-pi/2, pi/2]
-    t2 = t * t
-    s = t * (np.float32(1.0) + t2 * (np.float32(-1.0 / 6.0) + t2 * (np.float32(1.0 / 120.0) + t2 * (
-        np.float32(-1.0 / 5040.0) + t2 * np.float32(1.0 / 362880.0)))))
-    c = np.float32(1.0) + t2 * (np.float32(-0.5) + t2 * (np.float32(1.0 / 24.0) + t2 * (
-        np.float32(-1.0 / 720.0) + t2 * (np.float32(1.0 / 40320.0) + t2 * np.float32(-1.0 / 3628800.0)))))
-    return np.float32(2.0) * s * c, np.float32(1.0) - np.float32(2.0) * s * s
+_sincos_cycles = sincos_cycles  # shared with ffbp and pfa (salkit.signals.phase)
 
 
 @njit(cache=True, fastmath=True, error_model="numpy", boundscheck=False)
