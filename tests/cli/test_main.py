@@ -159,8 +159,8 @@ def test_propagate_writes_the_field_and_its_scintillation(tmp_path):
         assert k in m
     ds = xr.open_dataset(tmp_path / "p" / "field.nc")
     assert ds["field"].dims == ("realisation", "y", "x") and ds["x"].attrs["units"] == "m"
-    r = salkit("propagate", "--wave", "spherical", "--wavelength", "1.55e-6", "--cn2", "1e-14", "--distance", "1000",
+    r = salkit("propagate", "--wave", "conical", "--wavelength", "1.55e-6", "--cn2", "1e-14", "--distance", "1000",
                "--out", tmp_path / "s")
-    assert r.returncode == 2 and "spherical" in r.stderr and not (tmp_path / "s").exists()
+    assert r.returncode == 2 and "--wave" in r.stderr and not (tmp_path / "s").exists()
     r = salkit("propagate", "--wavelength", "2e-6", "--cn2", "1e-13", "--distance", "50000", "--out", tmp_path / "b")
     assert r.returncode == 2 and "more than" in r.stderr and not (tmp_path / "b").exists()

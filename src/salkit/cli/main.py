@@ -481,7 +481,7 @@ def _with_units(d: dict) -> dict:
 
 @app.command()
 @_guard
-def propagate(wave: str = typer.Option("plane", "--wave", metavar="KIND", help="plane (spherical: not modelled yet)"),
+def propagate(wave: str = typer.Option("plane", "--wave", metavar="KIND", help="plane | spherical (a point source)"),
               wavelength: float = typer.Option(..., "--wavelength", metavar="METRES", help="wavelength, m"),
               cn2: float = typer.Option(..., "--cn2", metavar="M^-2/3", help="refractive-index structure constant Cn2, m^(-2/3), uniform on the path"),
               distance: float = typer.Option(..., "--distance", metavar="METRES", help="path length, m"),
