@@ -560,7 +560,7 @@ class ScaledSampling:
 
 
 def plan_spherical(wavelength: float, distance: float, cn2: float, receiver: float | None = None,
-                   layers: int | None = None) -> ScaledSampling:
+                   layers: int | None = None, receiver_dx: float | None = None) -> ScaledSampling:
     """Sampling of a point source through uniform turbulence on a grid whose spacing grows from the
     source to the receiver (Schmidt 2010, sec. 9.4): the source's sinc width D1 = lambda L / (4 D2);
     D1' and D2' widened by 2 lambda L / r0 for the turbulent spread; delta1 = D1 / 4; deltan within
@@ -577,6 +577,8 @@ def plan_spherical(wavelength: float, distance: float, cn2: float, receiver: flo
     receiver : float, optional
         Receiver region's diameter, m (default 8 Fresnel scales sqrt(lambda L)).
     layers : int, optional
+    receiver_dx : float, optional
+        Largest spacing wanted at the receiver, m (to sample an aperture finely).
 
     Returns
     -------
@@ -594,8 +596,8 @@ def plan_spherical(wavelength: float, distance: float, cn2: float, receiver: flo
     d1 = lam * L / (4 * d2)
     spread = 2 * lam * L / r0 if math.isfinite(r0) else 0.0
     d1p, d2p = d1 + spread, d2 + spread
-    delta1 = d1 / 4
-    deltan = min(fresnel / 8, r0 / 4, -d2p / d1p * delta1 + lam * L / d1p)
+    delta1 = min(d1 / 4, lam * L / (2 * d2p))  # keeps the receiver bound below positive
+    deltan = min(fresnel / 8, r0 / 4, -d2p / d1p * delta1 + lam * L / d1p, receiver_dx or math.inf)
     if deltan <= 0:
         raise SamplingError("propagate grid", deltan, "no receiver spacing satisfies the point-source bound")
     need = d1p / (2 * delta1) + d2p / (2 * deltan) + lam * L / (2 * delta1 * deltan)
@@ -658,3 +660,4 @@ def spherical_wave_ensemble(wavelength: float, distance: float, cn2: float, coun
         u = propagate_scaled(src, wavelength, s.delta1, s.deltan, z, scr)[sl, sl] / vac[sl, sl]
         out[k][disc] = u[disc]
     return out, s
+
