@@ -349,7 +349,7 @@ def scintillation_index(fields: np.ndarray) -> float:
 
     Parameters
     ----------
-    fields : complex ndarray (K, N, N)
+    fields : complex ndarray (K, N, N), or any shape (pooled)
 
     Returns
     -------
@@ -432,8 +432,7 @@ def propagation_result(wave: str, wavelength: float, cn2: float, distance: float
         x = np.arange(-half, half + 1) * s.deltan
         grid = {"grid_n": s.n, "grid_dx_m": s.deltan, "source_dx_m": s.delta1, "layers": len(s.z) - 2,
                 "layer_r0_m": s.layer_r0, "receiver_m": s.receiver}
-        inten = np.abs(fields[np.isfinite(fields.real)].astype(np.complex128)) ** 2
-        si = float(np.mean(inten ** 2) / np.mean(inten) ** 2 - 1.0)
+        si = scintillation_index(fields[np.isfinite(fields.real)])
     else:
         raise SamplingError("--wave", wave, "must be plane or spherical")
     sig = rytov_variance(cn2, wavelength, distance, wave)

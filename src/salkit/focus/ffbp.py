@@ -96,12 +96,6 @@ def interpolation_table(taps: int, oversample: float, steps: int = TABLE_STEPS) 
 
 
 @njit(cache=True, inline="always", fastmath=True)
-def _row(table, t):
-    """Index of the table row for fraction t in [0, 1]."""
-    return int(t * (table.shape[0] - 1) + 0.5)
-
-
-@njit(cache=True, inline="always", fastmath=True)
 def _rotate(vr, vi, cyc):
     """(vr + j vi) exp(j 2 pi cyc), the cycles reduced in float64 before the float32 sin/cos."""
     y = np.float32(cyc - math.floor(cyc + 0.5))
@@ -125,6 +119,26 @@ def _plane_point(o, ea, er, cen, r, u):
     s = r * u - da
     t = -dr + math.sqrt(rad)
     return o[0] + s * ea[0] + t * er[0], o[1] + s * ea[1] + t * er[1], o[2] + s * ea[2] + t * er[2]
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def _polar_line(o, ea, er, cen, r0, dr, n, u):
+    """The plane points of one polar line (direction cosine u, ranges r0 + k dr from ``cen``), their
+    ranges, and the first and last index that lie in the plane (top < lo: none)."""
+    X0 = np.empty(n)
+    X1 = np.empty(n)
+    X2 = np.empty(n)
+    rl = np.empty(n)
+    lo = n
+    top = -1
+    for ir in range(n):
+        r = r0 + ir * dr
+        rl[ir] = r
+        X0[ir], X1[ir], X2[ir] = _plane_point(o, ea, er, cen, r, u)
+        if X0[ir] == X0[ir]:
+            lo = min(lo, ir)
+            top = ir
+    return X0, X1, X2, rl, lo, top
 
 
 @njit(cache=True, fastmath=True, boundscheck=False)
@@ -185,21 +199,7 @@ def _leaf_kernel(prof, rp0, inv_drp, pos, ref, weight, first, count, cen, o, ea,
         iu = job % NU
         if iu >= nu[s]:
             continue
-        n = nr[s]
-        u = u0[s] + iu * du[s]
-        X0 = np.empty(n)
-        X1 = np.empty(n)
-        X2 = np.empty(n)
-        rl = np.empty(n)
-        lo = n
-        top = -1
-        for ir in range(n):
-            r = r0[s] + ir * dr
-            rl[ir] = r
-            X0[ir], X1[ir], X2[ir] = _plane_point(o, ea, er, cen[s], r, u)
-            if X0[ir] == X0[ir]:
-                lo = min(lo, ir)
-                top = ir
+        X0, X1, X2, rl, lo, top = _polar_line(o, ea, er, cen[s], r0[s], dr, nr[s], u0[s] + iu * du[s])
         if top < lo:
             continue
         m = top + 1 - lo
@@ -330,21 +330,7 @@ def _merge_kernel(G, cu0, cdu, cnu, cr0, cnr, ccen, dr_child, factor, o, ea, er,
         iu = job % NU
         if iu >= nu[s]:
             continue
-        n = nr[s]
-        u = u0[s] + iu * du[s]
-        X0 = np.empty(n)
-        X1 = np.empty(n)
-        X2 = np.empty(n)
-        rl = np.empty(n)
-        lo = n
-        top = -1
-        for ir in range(n):
-            r = r0[s] + ir * dr
-            rl[ir] = r
-            X0[ir], X1[ir], X2[ir] = _plane_point(o, ea, er, cen[s], r, u)
-            if X0[ir] == X0[ir]:
-                lo = min(lo, ir)
-                top = ir
+        X0, X1, X2, rl, lo, top = _polar_line(o, ea, er, cen[s], r0[s], dr, nr[s], u0[s] + iu * du[s])
         if top < lo:
             continue
         m = top + 1 - lo

@@ -359,6 +359,27 @@ def run_stack(base: Scenario, squints, store, scheduler: str | None = None,
             cluster.close()
 
 
+def point_target(base: Scenario, grid=None) -> Scenario:
+    """``base`` with one point scatterer at the scene centre, photon noise off, and optionally
+    another image grid: the scenario the resolution studies measure.
+
+    Parameters
+    ----------
+    base : Scenario
+    grid : Grid, optional
+
+    Returns
+    -------
+    Scenario
+    """
+    nz = base.receiver.noise
+    update = {"scene": Scene(points=(PointTarget(),)),
+              "receiver": base.receiver.model_copy(update={"noise": nz.model_copy(update={"enabled": False})})}
+    if grid is not None:
+        update["processing"] = base.processing.model_copy(update={"grid": grid})
+    return base.model_copy(update=update)
+
+
 def coherent_resolution(base: Scenario, counts, oversample: float = 4.0) -> dict:
     """Along-track resolution of coherent stacks of ``P`` consecutive sub-apertures nearest closest
     approach, measured on a noise-free point target, against the combined aperture's theory.
@@ -389,10 +410,7 @@ def coherent_resolution(base: Scenario, counts, oversample: float = 4.0) -> dict
     span = 24 * max(counts) / min(counts)  # finest cells across: 24 of the coarsest stack's
     g = base.processing.grid.model_copy(update={"nx": int(span * oversample) + 1, "ny": 9, "dx": fine,
                                                 "dy": base.processing.grid.dy})
-    nz = base.receiver.noise
-    pt = base.model_copy(update={"scene": Scene(points=(PointTarget(),)), "processing": base.processing.model_copy(
-        update={"grid": g}), "receiver": base.receiver.model_copy(update={"noise": nz.model_copy(
-            update={"enabled": False})})})
+    pt = point_target(base, g)
     out = {"counts": [int(c) for c in counts], "irw_m": [], "irw_theory_m": []}
     for P in counts:
         qs = nearest_squints(int(P), L, L0)

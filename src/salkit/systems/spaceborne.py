@@ -24,13 +24,13 @@ from ..geometry.sampling import check_sampling, n_fast_samples
 from ..io.datasets import make_image_dataset
 from ..metrics import measure, split_snr, stack_snr
 from ..metrics.pointtarget import ipr_1d
-from ..params.models import PointTarget, Scenario, Scene
+from ..params.models import Scenario
 from ..params.scenario import dump_scenario
 from ..resources import check_memory
 from ..simulate import signal_scale, simulate
 from ..simulate.scene import pattern_mask
-from ..stack import (coherent_resolution, coherent_stack, geo_base, nearest_squints, run_stack, stack_memory_estimate,
-                     subaperture, subimage, uncorrect)
+from ..stack import (coherent_resolution, coherent_stack, geo_base, nearest_squints, point_target, run_stack,
+                     stack_memory_estimate, subaperture, subimage, uncorrect)
 from .result import Progress, RunResult, stage
 
 
@@ -112,9 +112,7 @@ def resolution_against_squint(base: Scenario, sub_length: float) -> tuple[dict, 
         Metrics, squints (deg), measured resolutions (m).
     """
     L0 = base.platform.standoff
-    nz = base.receiver.noise
-    pt = base.model_copy(update={"scene": Scene(points=(PointTarget(),)), "receiver": base.receiver.model_copy(
-        update={"noise": nz.model_copy(update={"enabled": False})})})
+    pt = point_target(base)
     sq_meas = [0.0, 2.5, 5.0, 7.5, 10.0, round(max_squint_for(1.1), 2)]
     meas, m = [], {}
     for q in sq_meas:
@@ -195,11 +193,8 @@ def trajectory_study(base: Scenario, squints, grid=None) -> tuple[dict, dict]:
         Metrics (``trajectory_<processing>_<quantity>_squint_<q>``, ``trajectory_stack_<processing>_*``)
         and figure data (per processing: IRW, PSLR and peak ratio against squint).
     """
-    nz = base.receiver.noise
     g = grid or base.processing.grid.model_copy(update={"nx": 160, "ny": 48, "dx": 0.008, "dy": 0.03})
-    pt = base.model_copy(update={"scene": Scene(points=(PointTarget(),)), "processing": base.processing.model_copy(
-        update={"grid": g}), "receiver": base.receiver.model_copy(update={"noise": nz.model_copy(
-            update={"enabled": False})})})
+    pt = point_target(base, g)
     line = pt.model_copy(update={"platform": pt.platform.model_copy(update={"trajectory": "straight", "orbit": None})})
     m, fig, stacks = {}, {k: {"irw": [], "pslr": [], "peak": []} for k in TRAJECTORY_PROCESSINGS}, {}
     for q in squints:
