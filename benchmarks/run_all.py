@@ -609,6 +609,37 @@ def bench_propagation(sizes=(256, 512, 1024), layers=10):
     return out
 
 
+def bench_turbulence_wave_optics(classes=("weak", "medium", "strong")):
+    """Cost of the seed 004 point-target simulation per turbulence class (51 pulses, 50 layers):
+    phase-only screens against wave optics through the same screens (one beam propagation per
+    pulse on the planned grid); the grid side and the time per pulse."""
+    import salkit
+    from salkit.geometry.collection import build_collection
+    from salkit.params import load_scenario
+    from salkit.simulate import screen_size, simulate, wave_optics_plan
+    base = load_scenario(salkit.example_path("turbulence_pga"), ["experiment=null", "receiver.noise.enabled=false"])
+    cn2s = {"weak": 1e-15, "medium": 1e-14, "strong": 1e-13}
+    out = {}
+    simulate(load_scenario(salkit.example_path("turbulence_pga"), ["experiment=null", "atmosphere.cn2=1e-15",
+                                                                   "atmosphere.model=wave_optics"]))  # compile
+    for name in classes:
+        wo = base.model_copy(update={"atmosphere": base.atmosphere.model_copy(
+            update={"cn2": cn2s[name], "model": "wave_optics"})})
+        col = build_collection(wo)
+        n_screen = screen_size(wo, col)
+        plan, _ = wave_optics_plan(wo, col)
+        wo = wo.model_copy(update={"atmosphere": wo.atmosphere.model_copy(update={"screen_n": n_screen})})
+        ps = wo.model_copy(update={"atmosphere": wo.atmosphere.model_copy(update={"model": "phase_screen"})})
+        t_ps, _ = best_of(lambda: simulate(ps), 1)
+        t_wo, _ = best_of(lambda: simulate(wo), 1)
+        out[f"wave_optics_{name}_grid_n"] = plan.n
+        out[f"wave_optics_{name}_screen_n"] = n_screen
+        out[f"wave_optics_{name}_phase_screen_s"] = t_ps
+        out[f"wave_optics_{name}_wave_optics_s"] = t_wo
+        out[f"wave_optics_{name}_per_pulse_s"] = (t_wo - t_ps) / col.n_pulses
+    return out
+
+
 def main():
     info = {"machine": platform.processor() or platform.machine(), "cpus": os.cpu_count(),
             "python": platform.python_version(), "numpy": np.__version__}
@@ -618,7 +649,8 @@ def main():
                      ("screens", bench_screens), ("pga", bench_pga), ("chirp", bench_chirp),
                      ("spaceborne", bench_spaceborne), ("downlooking", bench_downlooking), ("outside", bench_outside),
                      ("startup", bench_startup), ("ffbp", bench_ffbp), ("ffbp_knobs", bench_ffbp_knobs),
-                     ("scaling", bench_scaling), ("propagation", bench_propagation)):
+                     ("scaling", bench_scaling), ("propagation", bench_propagation),
+                     ("turbulence_wave_optics", bench_turbulence_wave_optics)):
         if only and name not in only:
             continue
         t0 = time.perf_counter()

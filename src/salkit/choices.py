@@ -6,6 +6,8 @@ from .errors import ScenarioError
 ALGORITHMS = ("bp", "pfa", "omegak", "ffbp")
 #: How the space-borne experiment stacks its sub-images.
 STACK_MODES = ("incoherent", "coherent")
+#: Turbulence models: phase-only screens along rays, or split-step wave optics (amplitude too).
+ATMOSPHERE_MODELS = ("phase_screen", "wave_optics")
 #: Amplitude windows.
 WINDOWS = ("none", "hamming", "taylor")
 #: Image planes of a grid.

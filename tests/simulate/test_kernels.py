@@ -57,5 +57,6 @@ def test_exact_kernel_equals_fast_for_linear_chirp(spot):
     w = spot.waveform
     simulate_exact(col.positions, col.velocity, col.reference_range, col.boresight, pos, amp.real.copy(),
                    amp.imag.copy(), t[0], t[1] - t[0], w.carrier_frequency, w.rate, w.pulse_width,
-                   np.zeros(0), False, table, dsin, re, im, *_NO_PATH, 0.0, 1.0, np.zeros(0))
+                   np.zeros(0), False, table, dsin, re, im, *_NO_PATH, np.zeros((0, 0), np.complex128), 0.0, 1.0,
+                   np.zeros(0))
     np.testing.assert_allclose(re + 1j * im, fast, atol=1e-4)

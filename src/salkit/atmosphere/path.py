@@ -43,6 +43,7 @@ class TurbulentPath:
     a: np.ndarray
     b: np.ndarray
     wavelength: float
+    length: float = math.nan  # path length (slant range), m
 
     def crossing_extent(self, positions: np.ndarray, targets: np.ndarray) -> tuple[float, float]:
         """Largest extents (along a, along b) the rays cover on any layer, m."""
@@ -149,7 +150,7 @@ def build_path(cn2, slant_range: float, wavelength: float, layers: int, n: int, 
     a /= np.linalg.norm(a)
     b = np.cross(u0, a)
     origin = np.tile(np.array(centre) - (n - 1) / 2 * dx, (layers, 1))
-    return TurbulentPath(scr, z, r0, dx, origin, u0, a, b, wavelength)
+    return TurbulentPath(scr, z, r0, dx, origin, u0, a, b, wavelength, float(slant_range))
 
 
 @njit(cache=True, inline="always")

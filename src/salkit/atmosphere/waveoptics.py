@@ -92,6 +92,91 @@ def scintillation_theory(rytov: float, wave: str = "plane") -> float:
     return math.exp(a + b) - 1.0
 
 
+def inner_scale_q(wavelength: float, distance: float, inner_scale: float) -> float:
+    """Andrews and Phillips' inner-scale parameter Q_l = 10.89 L / (k l0^2) (= L kappa_l^2 / k
+    with kappa_l = 3.3 / l0): the square of the Fresnel scale over the inner scale, times 10.89.
+
+    Parameters
+    ----------
+    wavelength, distance, inner_scale : float
+        m.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> round(inner_scale_q(1e-6, 2000.0, 0.005), 1)
+    138.7
+    """
+    return 10.89 * distance / (2 * math.pi / wavelength * inner_scale ** 2)
+
+
+def scintillation_theory_inner_scale(rytov: float, q_l: float) -> float:
+    """Scintillation index of a plane wave from weak to strong fluctuations with a finite inner
+    scale (Andrews and Phillips, 2nd ed., ch. 9, for their modified atmospheric spectrum; infinite
+    outer scale): exp(sigma_lnX^2 + sigma_lnY^2) - 1 with
+
+    * sigma_lnX^2 = 0.16 s (eta Q/(eta + Q))^(7/6) [1 + 1.75 (eta/(eta + Q))^(1/2)
+      - 0.25 (eta/(eta + Q))^(7/12)], 1/eta = 0.38 + 0.47 (1/3)^(6/7) s Q^(1/6),
+    * sigma_lnY^2 = 0.51 b / (1 + 0.69 b^(6/5))^(5/6), b the weak-fluctuation index with inner
+      scale 3.86 s [(1 + 1/Q^2)^(11/12) (sin(11/6 a) + 1.507 (1 + Q^2)^(-1/4) sin(4/3 a)
+      - 0.273 (1 + Q^2)^(-7/24) sin(5/4 a)) - 3.50 Q^(-5/6)], a = atan Q,
+
+    s = sigma_R^2, Q = Q_l (:func:`inner_scale_q`). The inner scale's spectral bump raises the
+    focusing peak above the zero-inner-scale expression (:func:`scintillation_theory`).
+
+    Parameters
+    ----------
+    rytov : float
+        Plane-wave sigma_R^2.
+    q_l : float
+        10.89 L / (k l0^2).
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> round(scintillation_theory_inner_scale(2.0, 138.7), 2) > round(scintillation_theory(2.0), 2)
+    True
+    """
+    s, q = float(rytov), float(q_l)
+    a = math.atan(q)
+    b = 3.86 * s * ((1 + 1 / q ** 2) ** (11 / 12) * (math.sin(11 / 6 * a) + 1.507 / (1 + q * q) ** 0.25
+                                                    * math.sin(4 / 3 * a) - 0.273 / (1 + q * q) ** (7 / 24)
+                                                    * math.sin(5 / 4 * a)) - 3.50 * q ** (-5 / 6))
+    eta = 1.0 / (0.38 + 0.47 * (1 / 3) ** (6 / 7) * s * q ** (1 / 6))
+    f = eta / (eta + q)
+    x = 0.49 / 3 * s * (eta * q / (eta + q)) ** (7 / 6) * (1 + 1.75 * f ** 0.5 - 0.25 * f ** (7 / 12))
+    y = 0.51 * b / (1 + 0.69 * b ** 1.2) ** (5 / 6)
+    return math.exp(x + y) - 1.0
+
+
+def modified_spectrum(kappa: np.ndarray, inner_scale: float | None) -> np.ndarray:
+    """Andrews' modified atmospheric spectrum over Kolmogorov's: [1 + 1.802 (kappa/kappa_l) -
+    0.254 (kappa/kappa_l)^(7/6)] exp(-kappa^2/kappa_l^2), kappa_l = 3.3 / l0 (1 without an inner
+    scale). Its bump near kappa_l is the inner-scale feature measured in air.
+
+    Parameters
+    ----------
+    kappa : ndarray
+        Angular spatial frequency, rad/m.
+    inner_scale : float or None
+        l0, m.
+
+    Returns
+    -------
+    ndarray
+    """
+    if not inner_scale:
+        return np.ones_like(kappa, dtype=np.float64)
+    t = np.asarray(kappa, np.float64) / (3.3 / inner_scale)
+    return (1 + 1.802 * t - 0.254 * t ** (7 / 6)) * np.exp(-t * t)
+
+
 def fried_parameter(cn2: float, wavelength: float, distance: float, wave: str = "plane") -> float:
     """Fried parameter of a path of uniform Cn2: plane wave (0.423 k^2 Cn2 L)^(-3/5), spherical
     wave (0.423 k^2 Cn2 L 3/8)^(-3/5), m.
@@ -140,7 +225,8 @@ class Sampling:
 
 
 def plan_sampling(wavelength: float, distance: float, cn2: float, *, layers: int | None = None,
-                  n: int | None = None, dx: float | None = None, width: float | None = None) -> Sampling:
+                  n: int | None = None, dx: float | None = None, width: float | None = None,
+                  inner_scale: float | None = None) -> Sampling:
     """Grid and steps for a plane wave through uniform turbulence.
 
     The spacing resolves the field: dx <= min(r0_plane, Fresnel scale sqrt(lambda L)) / 4 unless
@@ -158,6 +244,9 @@ def plan_sampling(wavelength: float, distance: float, cn2: float, *, layers: int
         Force the number of slabs or the grid side.
     dx, width : float, optional
         Force the spacing or the grid's width, m.
+    inner_scale : float, optional
+        l0, m: the spacing also resolves it (dx <= l0 / 3.3, where the modified spectrum has
+        fallen by 1e-4).
 
     Returns
     -------
@@ -172,6 +261,8 @@ def plan_sampling(wavelength: float, distance: float, cn2: float, *, layers: int
     r0 = fried_parameter(cn2, wavelength, distance) if cn2 > 0 else math.inf
     if dx is None:
         dx = min(r0, fresnel) / 4.0
+        if inner_scale:
+            dx = min(dx, inner_scale / 3.3)
     if width is None:
         width = max(32 * fresnel, 16 * min(r0, 1e9) if math.isfinite(r0) else 0.0)
     if n is None:
@@ -285,7 +376,8 @@ def propagate(field: np.ndarray, wavelength: float, dx: float, distance: float,
     return u
 
 
-def periodic_screens(n: int, dx: float, r0: float, count: int, rng: np.random.Generator) -> np.ndarray:
+def periodic_screens(n: int, dx: float, r0: float, count: int, rng: np.random.Generator,
+                     inner_scale: float | None = None) -> np.ndarray:
     """Kolmogorov phase screens that are exactly periodic on the N x N grid (rad): complex
     Gaussian noise shaped by sqrt(0.023 r0^(-5/3) f^(-11/3)) df on the FFT grid, no DC. A plane wave
     on a periodic grid needs them: a screen with an edge (as the subharmonic screens of
@@ -300,6 +392,8 @@ def periodic_screens(n: int, dx: float, r0: float, count: int, rng: np.random.Ge
         m.
     count : int
     rng : numpy.random.Generator
+    inner_scale : float, optional
+        l0, m: the spectrum times :func:`modified_spectrum` (resolve it: dx <= l0 / 3).
 
     Returns
     -------
@@ -307,8 +401,10 @@ def periodic_screens(n: int, dx: float, r0: float, count: int, rng: np.random.Ge
     """
     f = sfft.fftfreq(n, dx)
     f2 = f[:, None] ** 2 + f[None, :] ** 2
-    f2[0, 0] = np.inf
-    amp = np.sqrt(0.023 * r0 ** (-5 / 3) * f2 ** (-11 / 6)) / (n * dx)
+    f2[0, 0] = 1.0  # no DC: its amplitude is set to 0 below
+    amp = np.sqrt(0.023 * r0 ** (-5 / 3) * f2 ** (-11 / 6)
+                  * modified_spectrum(2 * np.pi * np.sqrt(f2), inner_scale)) / (n * dx)
+    amp[0, 0] = 0.0
     noise = rng.standard_normal((count, n, n)) + 1j * rng.standard_normal((count, n, n))
     # real part of an ifft of Hermitian-free noise: each frequency's variance splits between the
     # real and imaginary outputs, so the real part alone holds the full PSD
@@ -316,7 +412,8 @@ def periodic_screens(n: int, dx: float, r0: float, count: int, rng: np.random.Ge
 
 
 def plane_wave_ensemble(wavelength: float, distance: float, cn2: float, count: int, seed: int = 0,
-                        sampling: Sampling | None = None) -> tuple[np.ndarray, Sampling]:
+                        sampling: Sampling | None = None,
+                        inner_scale: float | None = None) -> tuple[np.ndarray, Sampling]:
     """``count`` independent realisations of a unit plane wave after ``distance`` of uniform
     turbulence (periodic FFT screens on a periodic grid).
 
@@ -330,16 +427,18 @@ def plane_wave_ensemble(wavelength: float, distance: float, cn2: float, count: i
     seed : int
     sampling : Sampling, optional
         Default :func:`plan_sampling`.
+    inner_scale : float, optional
+        l0, m (:func:`modified_spectrum`).
 
     Returns
     -------
     (complex64 (count, N, N), Sampling)
     """
-    s = sampling or plan_sampling(wavelength, distance, cn2)
+    s = sampling or plan_sampling(wavelength, distance, cn2, inner_scale=inner_scale)
     rng = np.random.default_rng(seed)
     out = np.empty((count, s.n, s.n), np.complex64)
     for k in range(count):
-        scr = periodic_screens(s.n, s.dx, s.layer_r0, s.layers, rng) if cn2 > 0 else None
+        scr = periodic_screens(s.n, s.dx, s.layer_r0, s.layers, rng, inner_scale) if cn2 > 0 else None
         out[k] = propagate(np.ones((s.n, s.n), np.complex64), wavelength, s.dx, distance, scr)
     return out, s
 
@@ -388,7 +487,7 @@ def wave_structure_function(fields: np.ndarray, dx: float, max_lag: int | None =
 
 
 def propagation_result(wave: str, wavelength: float, cn2: float, distance: float, count: int, seed: int = 0,
-                       layers: int | None = None) -> tuple[xr.Dataset, dict]:
+                       layers: int | None = None, inner_scale: float | None = None) -> tuple[xr.Dataset, dict]:
     """An ensemble propagated and measured: the received fields as a dataset and the figures
     against theory (what ``salkit propagate`` writes).
 
@@ -406,13 +505,17 @@ def propagation_result(wave: str, wavelength: float, cn2: float, distance: float
     seed : int
     layers : int, optional
         Phase screens (default: :func:`plan_sampling`'s).
+    inner_scale : float, optional
+        l0 of the modified atmospheric spectrum, m (plane waves).
 
     Returns
     -------
     (xarray.Dataset, dict)
         ``field`` (realisation, y, x) complex64 with coordinates in m, and metrics:
-        ``rytov_variance``, ``scintillation_index``, ``scintillation_index_theory`` (Andrews-Phillips),
-        ``r0_plane_m``, ``r0_spherical_m``, the sampling.
+        ``rytov_variance``, ``scintillation_index``, ``scintillation_index_theory`` (Andrews-Phillips,
+        with the inner scale where one is given: then also ``inner_scale_q`` and
+        ``scintillation_index_theory_zero_inner_scale``), ``r0_plane_m``, ``r0_spherical_m``, the
+        sampling.
 
     Raises
     ------
@@ -420,8 +523,9 @@ def propagation_result(wave: str, wavelength: float, cn2: float, distance: float
         For a case that cannot be sampled (:func:`plan_sampling`, :func:`plan_spherical`).
     """
     if wave == "plane":
-        s = plan_sampling(wavelength, distance, cn2, layers=layers)
-        fields, s = plane_wave_ensemble(wavelength, distance, cn2, count, seed=seed, sampling=s)
+        s = plan_sampling(wavelength, distance, cn2, layers=layers, inner_scale=inner_scale)
+        fields, s = plane_wave_ensemble(wavelength, distance, cn2, count, seed=seed, sampling=s,
+                                        inner_scale=inner_scale)
         x = (np.arange(s.n) - s.n // 2) * s.dx
         grid = {"grid_n": s.n, "grid_dx_m": s.dx, "layers": s.layers, "layer_r0_m": s.layer_r0}
         si = scintillation_index(fields)
@@ -436,8 +540,12 @@ def propagation_result(wave: str, wavelength: float, cn2: float, distance: float
     else:
         raise SamplingError("--wave", wave, "must be plane or spherical")
     sig = rytov_variance(cn2, wavelength, distance, wave)
-    metrics = {"rytov_variance": sig, "scintillation_index": si,
-               "scintillation_index_theory": scintillation_theory(sig, wave),
+    theory = {"scintillation_index_theory": scintillation_theory(sig, wave)}
+    if inner_scale and wave == "plane":
+        q = inner_scale_q(wavelength, distance, inner_scale)
+        theory = {"scintillation_index_theory": scintillation_theory_inner_scale(sig, q), "inner_scale_m": inner_scale,
+                  "inner_scale_q": q, "scintillation_index_theory_zero_inner_scale": scintillation_theory(sig, wave)}
+    metrics = {"rytov_variance": sig, "scintillation_index": si, **theory,
                "r0_plane_m": fried_parameter(cn2, wavelength, distance) if cn2 > 0 else math.inf,
                "r0_spherical_m": fried_parameter(cn2, wavelength, distance, "spherical") if cn2 > 0 else math.inf,
                **grid, "realisations": count}

@@ -240,6 +240,16 @@ def _preflight(sc) -> None:
     if sc.experiment is None:
         from ..geometry import build_collection, check_sampling
         check_sampling(sc, build_collection(sc))
+    atm = sc.atmosphere
+    if atm is not None and atm.model == "wave_optics":  # plan every class's beam and screens before any work
+        from ..geometry import build_collection
+        from ..simulate import screen_size
+        col = build_collection(sc)
+        classes = getattr(sc.experiment, "classes", None) or {"atmosphere.cn2": atm.cn2}
+        for cn2 in (c for c in classes.values() if c):
+            n = screen_size(sc.model_copy(update={"atmosphere": atm.model_copy(update={"cn2": cn2})}), col)
+            check_memory(atm.layers * n * n * 4.0, f"{atm.layers} phase screens of {n} x {n} (Cn2 = {cn2})",
+                         "use fewer atmosphere.layers or a coarser atmosphere.screen_dx")
 
 
 def print_headline(m: dict) -> None:
@@ -488,6 +498,7 @@ def propagate(wave: str = typer.Option("plane", "--wave", metavar="KIND", help="
               layers: Optional[int] = typer.Option(None, "--layers", metavar="N", help="phase screens (default: as many as keep each weak, at least 10)"),
               count: int = typer.Option(16, "--count", metavar="K", help="realisations"),
               seed: int = typer.Option(0, "--seed", metavar="INT", help="random seed"),
+              inner_scale: Optional[float] = typer.Option(None, "--inner-scale", metavar="METRES", help="inner scale l0 of the modified atmospheric spectrum, m (plane waves; default 0: Kolmogorov)"),
               out_dir: Path = typer.Option(..., "--out", metavar="DIR", help="output folder: field.nc and metrics.json"),
               overwrite: bool = typer.Option(False, "--overwrite", help="replace a non-empty --out once the new run is complete")):
     """Propagate a wave through turbulence (split-step wave optics): the received field and its
@@ -501,10 +512,15 @@ def propagate(wave: str = typer.Option("plane", "--wave", metavar="KIND", help="
                               ("--cn2", cn2, 0 <= cn2 < 1e-10, "must be in [0, 1e-10) m^(-2/3)"),
                               ("--distance", distance, 0 < distance <= 1e6, "must be in (0, 1000 km]"),
                               ("--count", count, count >= 1, "must be >= 1"),
-                              ("--layers", layers, layers is None or layers >= 1, "must be >= 1")):
+                              ("--layers", layers, layers is None or layers >= 1, "must be >= 1"),
+                              ("--inner-scale", inner_scale, inner_scale is None or 0 < inner_scale < 1.0,
+                               "must be in (0, 1 m)"),
+                              ("--inner-scale", inner_scale, inner_scale is None or wave == "plane",
+                               "is modelled for plane waves only")):
         if not ok:
             raise ScenarioError(name, v, rule)
-    ds, m = propagation_result(wave, wavelength, cn2, distance, count, seed=seed, layers=layers)
+    ds, m = propagation_result(wave, wavelength, cn2, distance, count, seed=seed, layers=layers,
+                               inner_scale=inner_scale)
     with RunFolder(out_dir, overwrite=overwrite) as tmp:
         write_dataset(ds, tmp / "field.nc")
         write_json_atomic(tmp / "metrics.json", m)

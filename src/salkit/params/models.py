@@ -11,7 +11,7 @@ from typing import Annotated, Literal, Optional, Union
 
 from pydantic import BaseModel, ConfigDict, Discriminator, Field, Tag, field_validator, model_validator
 
-from ..choices import ALGORITHMS, AUTOFOCUS_METHODS, CHIRP_CORRECTIONS, PGA_KERNELS, PLANES, STACK_MODES, WINDOWS
+from ..choices import ALGORITHMS, ATMOSPHERE_MODELS, AUTOFOCUS_METHODS, CHIRP_CORRECTIONS, PGA_KERNELS, PLANES, STACK_MODES, WINDOWS
 from ..constants import SPEED_OF_LIGHT
 
 
@@ -357,6 +357,10 @@ class Atmosphere(_Frozen):
     outer_scale: Optional[float] = Field(default=None, gt=0, description="von Karman L0, m")
     inner_scale: Optional[float] = Field(default=None, ge=0, description="inner scale l0, m")
     seed: int = Field(default=0, ge=0)
+    model: Literal[ATMOSPHERE_MODELS] = Field(default="phase_screen", description=(
+        "phase_screen: two-way phase along each ray through the screens (geometric optics); "
+        "wave_optics: the transmit beam propagated through the screens by split-step angular spectrum, "
+        "two-way complex gain per pulse and scatterer (amplitude and phase, by reciprocity)"))
 
     @model_validator(mode="after")
     def _profile(self) -> "Atmosphere":

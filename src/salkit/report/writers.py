@@ -72,6 +72,8 @@ def write_turbulence(result: RunResult, out: Path, page: dict | None = None) -> 
     plot.structure_function_figure(sf["r"], sf["d"], sf["e"], sf["theory"], out / "structure_function.png",
                                    title=sf["title"])
     plot.ipr_classes_figure(f["cuts"], out / "ipr_classes.png")
+    if f.get("wave_optics_cuts"):
+        plot.ipr_classes_figure(f["wave_optics_cuts"], out / "ipr_classes_wave_optics.png")
     plot.image_grid_figure(f["i_images"], out / "i_target.png")
     worst = f["worst"]
     notes = {"focused, no PGA": f"entropy {result.metrics[f'{worst}_i_entropy']:.3f}"}
@@ -80,7 +82,8 @@ def write_turbulence(result: RunResult, out: Path, page: dict | None = None) -> 
         if e is not None:
             notes[label] = f"entropy {e:.3f}"
     plot.pga_steps_figure(f["i_images"][worst][0], f["steps"], out / "pga_iterations.png", title=worst, notes=notes)
-    render(out, "turbulence.html", result, page, rows=f["rows"], irw_pslr=tol.IRW_MEANINGFUL_PSLR_DB)
+    render(out, "turbulence.html", result, page, rows=f["rows"], irw_pslr=tol.IRW_MEANINGFUL_PSLR_DB,
+           wave_optics=bool(f.get("wave_optics_cuts")))
 
 
 WRITERS["turbulence_pga"] = write_turbulence

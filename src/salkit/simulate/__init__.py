@@ -55,7 +55,7 @@ def _path_args(path):
 
 def echo_signal(collection: Collection, scatter_pos: np.ndarray, scatter_amp: np.ndarray,
                 scenario: Scenario, fast_time: np.ndarray, chunk: int = 256,
-                progress: ProgressFn = None, path=None) -> np.ndarray:
+                progress: ProgressFn = None, path=None, gains: np.ndarray | None = None) -> np.ndarray:
     """Noise-free dechirped echoes (P, N) complex64 of the given scatterers.
 
     Parameters
@@ -75,6 +75,9 @@ def echo_signal(collection: Collection, scatter_pos: np.ndarray, scatter_amp: np
         Called as ``progress(done_pulses, total_pulses)``.
     path : TurbulentPath, optional
         Frozen turbulence screens; each echo carries its two-way path phase.
+    gains : complex ndarray (P, S), optional
+        Two-way complex gain of each scatterer at each pulse, in place of the beam pattern (wave
+        optics, :func:`salkit.atmosphere.beam.two_way_gains`).
 
     Returns
     -------
@@ -100,8 +103,10 @@ def echo_signal(collection: Collection, scatter_pos: np.ndarray, scatter_amp: np
         etab = (float(et[0]), float(et[1] - et[0]), np.ascontiguousarray(ev, dtype=np.float64))
     else:
         etab = (0.0, 1.0, np.zeros(0))
+    no_gain = np.zeros((0, 0), np.complex128)
     for a in range(0, P, chunk):
         b = min(P, a + chunk)
+        g = no_gain if gains is None else np.ascontiguousarray(gains[a:b], np.complex128)
         re = np.zeros((b - a, N), np.float32)
         im = np.zeros((b - a, N), np.float32)
         args_geo = (np.ascontiguousarray(collection.positions[a:b]),)
@@ -110,11 +115,11 @@ def echo_signal(collection: Collection, scatter_pos: np.ndarray, scatter_amp: np
                            np.ascontiguousarray(collection.reference_range[a:b]),
                            np.ascontiguousarray(collection.boresight[a:b]), pos, are, aim, t0, dt,
                            w.carrier_frequency, w.rate, w.pulse_width, coeffs, p.intra_pulse_motion,
-                           table, dsin, re, im, *pargs, *etab)
+                           table, dsin, re, im, *pargs, g, *etab)
         else:
             simulate_linear(args_geo[0], np.ascontiguousarray(collection.reference_range[a:b]),
                             np.ascontiguousarray(collection.boresight[a:b]), pos, are, aim, t0, dt,
-                            w.carrier_frequency, w.rate, w.pulse_width, table, dsin, re, im, *pargs)
+                            w.carrier_frequency, w.rate, w.pulse_width, table, dsin, re, im, *pargs, g)
         out[a:b].real = re
         out[a:b].imag = im
         if progress is not None:
@@ -234,25 +239,28 @@ def signal_scale(scenario: Scenario, collection: Collection, n_samples: int) -> 
     return math.sqrt(nz.efficiency * nz.signal_photons / (n_samples * n_ap))
 
 
-def turbulent_path(scenario: Scenario, col: Collection):
-    """The scenario's frozen-screen path, with screens large enough for every ray.
-
-    Raises ScenarioError when an explicit ``atmosphere.screen_n`` is smaller than the area the rays
-    cross on some layer (the screen would be clamped at its edge).
+def screen_size(scenario: Scenario, col: Collection) -> int:
+    """Side of the scenario's phase screens: ``atmosphere.screen_n`` if given, else large enough for
+    every ray (and, for ``wave_optics``, for the propagation grid on every layer).
 
     Parameters
     ----------
     scenario : Scenario
+        With an atmosphere.
     col : Collection
 
     Returns
     -------
-    TurbulentPath
-    """
+    int
 
+    Raises
+    ------
+    ScenarioError
+        When an explicit ``atmosphere.screen_n`` is smaller than what the rays (or the grids) cross.
+    """
     atm = scenario.atmosphere
-    u0 = col.center_position / np.linalg.norm(col.center_position)
     R = float(np.linalg.norm(col.center_position))
+    u0 = col.center_position / R
     probe = scene_probe_points(scenario)
     # extent the rays cover on the layers: scene extent near the target, aperture near the platform
     ends = np.stack([col.positions[0], col.positions[-1], col.positions[col.n_pulses // 2]])
@@ -263,14 +271,89 @@ def turbulent_path(scenario: Scenario, col: Collection):
     for frac in (0.0, 0.5, 1.0 - 0.5 / atm.layers):
         q = ray_crossings(ends, probe, frac * R, u0)
         need = max(need, float(np.ptp(q @ a)), float(np.ptp(q @ b)))
+    what = "the rays cross"
+    if atm.model == "wave_optics":  # the propagation grids must lie on the screens on every layer
+        plan, _ = wave_optics_plan(scenario, col)
+        grids = screen_need(plan, R, _swath(col, a, b))
+        if grids > need:
+            need, what = grids, "the wave-optics grids cover"
     n_need = int(math.ceil(need / atm.screen_dx)) + 8
     if atm.screen_n is not None and atm.screen_n < n_need:
         raise ScenarioError("atmosphere.screen_n", atm.screen_n,
-                            f"the rays cross {need:.4g} m of a layer; at screen_dx = {atm.screen_dx:g} m the "
+                            f"{what} {need:.4g} m of a layer; at screen_dx = {atm.screen_dx:g} m the "
                             f"screen needs >= {n_need} samples")
-    n = atm.screen_n or max(32, n_need)
-    return build_path(atm.cn2, R, scenario.waveform.wavelength, atm.layers, n, atm.screen_dx, u0, col.track,
-                      seed=atm.seed, outer_scale=atm.outer_scale, inner_scale=atm.inner_scale)
+    return atm.screen_n or max(32, n_need)
+
+
+def turbulent_path(scenario: Scenario, col: Collection):
+    """The scenario's frozen-screen path, with screens of :func:`screen_size`.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    col : Collection
+
+    Returns
+    -------
+    TurbulentPath
+
+    Raises
+    ------
+    ScenarioError
+        When an explicit ``atmosphere.screen_n`` is too small (:func:`screen_size`), or the screens
+        need more memory than the machine has.
+    """
+    atm = scenario.atmosphere
+    R = float(np.linalg.norm(col.center_position))
+    n = screen_size(scenario, col)
+    check_memory(atm.layers * n * n * 4.0, f"{atm.layers} phase screens of {n} x {n}",
+                 "use fewer atmosphere.layers or a coarser atmosphere.screen_dx")
+    return build_path(atm.cn2, R, scenario.waveform.wavelength, atm.layers, n, atm.screen_dx,
+                      col.center_position / R, col.track, seed=atm.seed, outer_scale=atm.outer_scale,
+                      inner_scale=atm.inner_scale)
+
+
+def _swath(col: Collection, a: np.ndarray, b: np.ndarray) -> float:
+    """Largest extent of the antenna positions across the line of sight (along a or b), m."""
+    return float(max(np.ptp(col.positions @ a), np.ptp(col.positions @ b)))
+
+
+def wave_optics_plan(scenario: Scenario, col: Collection):
+    """Sampling of the wave-optics transmit beam (:func:`salkit.atmosphere.beam.plan_beam`) for a
+    scenario: the path's length, layers and spherical-wave r0; the scene region the larger of the
+    scatterers' extent across the line of sight (plus 10 %) and the beam's first-null diameter
+    2.44 lambda R / D.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        With an atmosphere.
+    col : Collection
+
+    Returns
+    -------
+    (BeamSampling, float)
+        The sampling and the region's diameter, m.
+
+    Raises
+    ------
+    SamplingError
+        When the beam cannot be sampled on a grid of at most 4096^2.
+    """
+    atm, lam = scenario.atmosphere, scenario.waveform.wavelength
+    R = float(np.linalg.norm(col.center_position))
+    u0 = col.center_position / R
+    a = col.track - np.dot(col.track, u0) * u0
+    a /= np.linalg.norm(a)
+    b = np.cross(u0, a)
+    probe = scene_probe_points(scenario)
+    radius = float(np.max(np.hypot(probe @ a, probe @ b)))
+    region = max(2.2 * radius, 2.44 * lam * R / scenario.platform.real_aperture)
+    dz = R / atm.layers
+    z = (np.arange(atm.layers) + 0.5) * dz
+    r0 = np.broadcast_to(np.asarray(r0_from_cn2(np.asarray(atm.cn2, float), dz, lam), float), (atm.layers,))
+    r0s = float(np.sum(r0 ** (-5 / 3) * (z / R) ** (5 / 3)) ** (-3 / 5))
+    return plan_beam(lam, R, scenario.platform.real_aperture, region, r0s, z), region
 
 
 def simulate(scenario, progress: ProgressFn = None, noise: bool | None = None,
@@ -350,7 +433,17 @@ def simulate_sal(scenario: Scenario, progress: ProgressFn = None, noise: bool | 
     spos, samp = build_scatterers(scenario, cell, rng, smooth_phase)
     scale = signal_scale(scenario, col, n)
     path = turbulent_path(scenario, col) if scenario.atmosphere is not None else None
-    sig = echo_signal(col, spos, samp * scale, scenario, t, progress=progress, path=path)
+    gains = None
+    if path is not None and scenario.atmosphere.model == "wave_optics":
+        plan, region = wave_optics_plan(scenario, col)
+        check_memory(col.n_pulses * len(spos) * 16.0 + 3 * plan.n ** 2 * 8.0,
+                     f"wave-optics gains of {len(spos)} scatterers x {col.n_pulses} pulses",
+                     "use fewer scatterers or pulses")
+        gains, _ = two_way_gains(path, col.positions, spos, scenario.platform.real_aperture, region,
+                                 sampling=plan, progress=progress)
+        path = None
+    sig = echo_signal(col, spos, samp * scale, scenario, t, progress=None if gains is not None else progress,
+                      path=path, gains=gains)
     if scenario.platform.phase_error is not None:
         err = scenario.platform.phase_error.values(col.n_pulses)
         sig *= np.exp(1j * err).astype(np.complex64)[:, None]
@@ -383,6 +476,8 @@ from .._callable import make_callable as _make_callable  # noqa: E402
 from ..errors import ScenarioError
 from ..geometry.collection import pulse_count
 from ..atmosphere.path import ray_crossings, build_path
+from ..atmosphere.beam import plan_beam, screen_need, two_way_gains
+from ..atmosphere.turbulence import r0_from_cn2
 from ..geometry.sampling import scene_probe_points
 from ..signals.chirp import reference_beat
 from ..geometry.sampling import delay_spread

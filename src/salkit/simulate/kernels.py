@@ -40,17 +40,20 @@ def _beam(dx, dy, dz, R, bx, by, bz, table, dsin):
 
 @njit(parallel=True, cache=True, fastmath=False)
 def simulate_linear(pos, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp, table, dsin,
-                    out_re, out_im, scr, scr_z, scr_org, scr_dx, u0, ax_a, ax_b):
+                    out_re, out_im, scr, scr_z, scr_org, scr_dx, u0, ax_a, ax_b, gain):
     """Stop-and-go, linear chirp: phase recurrence over fast time in blocks of 16 samples.
 
     ``scr`` (L, n, n) are turbulence screens (L = 0: none); each echo then carries the two-way
     path phase, twice the one-way phase along the antenna-scatterer ray (see atmosphere.path).
+    ``gain`` (P, S) complex, when not empty, replaces the beam pattern: each echo is weighted by
+    its two-way complex gain (wave optics, :mod:`salkit.atmosphere.beam`).
 
     Parameters
     ----------
-    pos, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp, table, dsin, out_re, out_im, scr, scr_z, scr_org, scr_dx, u0, ax_a, ax_b
+    pos, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp, table, dsin, out_re, out_im, scr, scr_z, scr_org, scr_dx, u0, ax_a, ax_b, gain
         Geometry (float64, m), reflectivities, fast time (s), chirp (Hz, Hz/s, s), beam table,
-        output planes (float32, filled in place) and screens; see :func:`salkit.simulate.echo_signal`.
+        output planes (float32, filled in place), screens and gains; see
+        :func:`salkit.simulate.echo_signal`.
     """
     P = pos.shape[0]
     S = scat.shape[0]
@@ -70,9 +73,12 @@ def simulate_linear(pos, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp, tab
             dy = scat[s, 1] - py
             dz = scat[s, 2] - pz
             R = math.sqrt(dx * dx + dy * dy + dz * dz)
-            g = _beam(dx, dy, dz, R, bx, by, bz, table, dsin)
-            if g < 1e-7:
-                continue
+            if gain.shape[0] > 0:
+                gr, gi = gain[p, s].real, gain[p, s].imag
+            else:
+                gr, gi = _beam(dx, dy, dz, R, bx, by, bz, table, dsin), 0.0
+                if gr < 1e-7:
+                    continue
             dtau = 2.0 * (R - rp) / c
             nlo = int(math.ceil((dtau - 0.5 * tp - t0) / dt))
             nhi = int(math.floor((dtau + 0.5 * tp - t0) / dt))
@@ -90,8 +96,8 @@ def simulate_linear(pos, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp, tab
             if scr.shape[0] > 0:
                 ph += 2.0 * path_phase(px, py, pz, scat[s, 0], scat[s, 1], scat[s, 2], scr, scr_z, scr_org,
                                        scr_dx, u0, ax_a, ax_b)
-            ar = amp_re[s] * g
-            ai = amp_im[s] * g
+            ar = amp_re[s] * gr - amp_im[s] * gi
+            ai = amp_re[s] * gi + amp_im[s] * gr
             cph, sph = math.cos(ph), math.sin(ph)
             cur_re = ar * cph - ai * sph
             cur_im = ar * sph + ai * cph
@@ -160,7 +166,7 @@ def _etab(x, e_t0, e_dt, e_tab):
 @njit(parallel=True, cache=True, fastmath=False)
 def simulate_exact(pos, vel, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp, coeffs, intra,
                    table, dsin, out_re, out_im, scr, scr_z, scr_org, scr_dx, u0, ax_a, ax_b,
-                   e_t0, e_dt, e_tab):
+                   gain, e_t0, e_dt, e_tab):
     """Per-sample evaluation: polynomial chirp nonlinearity and optional intra-pulse motion.
 
     ``coeffs[m]`` multiplies t**(m+2) in the frequency sweep (Hz/s**(m+2)); ``e_tab`` (spacing
@@ -169,7 +175,7 @@ def simulate_exact(pos, vel, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp,
 
     Parameters
     ----------
-    pos, vel, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp, coeffs, intra, table, dsin, out_re, out_im, scr, scr_z, scr_org, scr_dx, u0, ax_a, ax_b, e_t0, e_dt, e_tab
+    pos, vel, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp, coeffs, intra, table, dsin, out_re, out_im, scr, scr_z, scr_org, scr_dx, u0, ax_a, ax_b, gain, e_t0, e_dt, e_tab
         As :func:`simulate_linear`, with the antenna velocity (m/s), the chirp polynomial and the
         tabulated chirp phase error.
     """
@@ -184,11 +190,14 @@ def simulate_exact(pos, vel, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp,
             dy0 = scat[s, 1] - pos[p, 1]
             dz0 = scat[s, 2] - pos[p, 2]
             R0 = math.sqrt(dx0 * dx0 + dy0 * dy0 + dz0 * dz0)
-            g = _beam(dx0, dy0, dz0, R0, bore[p, 0], bore[p, 1], bore[p, 2], table, dsin)
-            if g < 1e-7:
-                continue
-            ar = amp_re[s] * g
-            ai = amp_im[s] * g
+            if gain.shape[0] > 0:
+                gr, gi = gain[p, s].real, gain[p, s].imag
+            else:
+                gr, gi = _beam(dx0, dy0, dz0, R0, bore[p, 0], bore[p, 1], bore[p, 2], table, dsin), 0.0
+                if gr < 1e-7:
+                    continue
+            ar = amp_re[s] * gr - amp_im[s] * gi
+            ai = amp_re[s] * gi + amp_im[s] * gr
             if scr.shape[0] > 0:  # frozen screens: the path phase of the pulse
                 tph = 2.0 * path_phase(pos[p, 0], pos[p, 1], pos[p, 2], scat[s, 0], scat[s, 1], scat[s, 2],
                                        scr, scr_z, scr_org, scr_dx, u0, ax_a, ax_b)

@@ -13,8 +13,8 @@ import warnings
 
 import numpy as np
 
-from ..atmosphere import (phase_screens, r0_from_cn2, structure_function, structure_function_estimate,
-                          turbulence_class)
+from ..atmosphere import (phase_screens, r0_from_cn2, rytov_variance, structure_function,
+                          structure_function_estimate, turbulence_class)
 from ..autofocus import autofocus, history_metrics
 from ..focus import focus
 from ..geometry.collection import build_collection
@@ -22,7 +22,7 @@ from ..geometry.sampling import check_sampling
 from ..metrics import measure
 from ..params.models import Atmosphere, PointTarget, Scenario, Scene
 from ..params.scenario import dump_scenario
-from ..simulate import simulate, turbulent_path
+from ..simulate import screen_size, simulate, turbulent_path
 from ..simulate.scene import pattern_mask
 from .result import Progress, RunResult
 
@@ -30,9 +30,9 @@ KEYS = ("irw_azimuth_m", "irw_range_m", "pslr_azimuth_db", "islr_azimuth_db", "p
         "peak_offset_azimuth_m", "entropy", "contrast")
 
 
-def _with(scenario: Scenario, cn2: float, points) -> Scenario:
+def _with(scenario: Scenario, cn2: float, points, **atm_update) -> Scenario:
     atm = scenario.atmosphere or Atmosphere(cn2=1e-15)
-    atm = atm.model_copy(update={"cn2": cn2}) if cn2 > 0 else None
+    atm = atm.model_copy(update={"cn2": cn2, **atm_update}) if cn2 > 0 else None
     return scenario.model_copy(update={"atmosphere": atm, "experiment": None,
                                        "scene": Scene(points=tuple(points))})
 
@@ -117,7 +117,38 @@ def screen_statistics(scenario: Scenario, r0_layer: float) -> tuple[dict, dict]:
                "title": f"{exp.ensemble_screens} screens, r0 = {r0_layer:.3g} m"}
 
 
-def class_images(scenario: Scenario, name: str, cn2: float, i_pts) -> tuple[dict, dict, dict]:
+def point_images(scenario: Scenario, name: str, cn2: float, **atm_update) -> tuple[dict, dict, tuple]:
+    """The point target of one class focused with PFA, before and after PGA, and measured.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    name : str
+        Prefix of the metrics (``<name>_`` and ``<name>_pga_``).
+    cn2 : float
+        m^(-2/3).
+    **atm_update
+        Atmosphere fields to change (``model``, ``screen_n``).
+
+    Returns
+    -------
+    (dict, dict, tuple)
+        Metrics, the images (``point``, ``point_pga``) and the cuts (before, after) for the figure.
+    """
+    p = scenario.processing
+    sc_pt = _with(scenario, cn2, scenario.scene.points, **atm_update)
+    img = focus(simulate(sc_pt), sc_pt.processing, scenario=sc_pt)
+    af, res = autofocus(img, "pga", kernel=p.autofocus_kernel, max_iter=p.autofocus_max_iter)
+    m0, m1 = measure(img, details=True), measure(af, details=True)
+    metrics = {f"{name}_{k}": float(m0[k]) for k in KEYS}
+    metrics.update({f"{name}_pga_{k}": float(m1[k]) for k in KEYS})
+    metrics[f"{name}_irw_azimuth_theory_m"] = float(m0["irw_azimuth_theory_m"])
+    metrics.update(history_metrics(res, prefix=f"{name}_pga"))
+    metrics[f"{name}_pga_iterations"] = len(res.history) - 1
+    return metrics, {"point": img, "point_pga": af}, (m0, m1)
+
+
+def class_images(scenario: Scenario, name: str, cn2: float, i_pts, **atm_update) -> tuple[dict, dict, dict]:
     """One turbulence class: the point target and the "I" focused with PFA, before and after PGA.
 
     Parameters
@@ -127,6 +158,8 @@ def class_images(scenario: Scenario, name: str, cn2: float, i_pts) -> tuple[dict
     cn2 : float
         m^(-2/3).
     i_pts : list of PointTarget
+    **atm_update
+        Atmosphere fields to change (``model``, ``screen_n``).
 
     Returns
     -------
@@ -134,24 +167,76 @@ def class_images(scenario: Scenario, name: str, cn2: float, i_pts) -> tuple[dict
         Metrics (``<class>_`` and ``<class>_pga_``), the images (by name), and the report row.
     """
     p = scenario.processing
-    sc_pt = _with(scenario, cn2, scenario.scene.points)
-    img = focus(simulate(sc_pt), sc_pt.processing, scenario=sc_pt)
-    af, res = autofocus(img, "pga", kernel=p.autofocus_kernel, max_iter=p.autofocus_max_iter)
-    m0, m1 = measure(img, details=True), measure(af, details=True)
-    metrics = {f"{name}_{k}": float(m0[k]) for k in KEYS}
-    metrics.update({f"{name}_pga_{k}": float(m1[k]) for k in KEYS})
-    metrics[f"{name}_irw_azimuth_theory_m"] = float(m0["irw_azimuth_theory_m"])
-    metrics.update(history_metrics(res, prefix=f"{name}_pga"))
-    sc_i = _with(scenario, cn2, i_pts)
+    metrics, imgs, cuts = point_images(scenario, name, cn2, **atm_update)
+    img, af = imgs["point"], imgs["point_pga"]
+    sc_i = _with(scenario, cn2, i_pts, **atm_update)
     img_i = focus(simulate(sc_i), sc_i.processing, scenario=sc_i)
     af_i, _ = autofocus(img_i, "pga", kernel=p.autofocus_kernel, max_iter=p.autofocus_max_iter)
     metrics[f"{name}_i_entropy"] = float(measure(img_i)["entropy"])
     metrics[f"{name}_i_pga_entropy"] = float(measure(af_i)["entropy"])
     row = {"name": name, "cn2": cn2, "class": turbulence_class(cn2) if cn2 > 0 else "none",
            **{k: metrics[f"{name}_{k}"] for k in KEYS}, **{f"pga_{k}": metrics[f"{name}_pga_{k}"] for k in KEYS},
-           "iterations": len(res.history) - 1, "i_entropy": metrics[f"{name}_i_entropy"],
+           "iterations": metrics[f"{name}_pga_iterations"], "i_entropy": metrics[f"{name}_i_entropy"],
            "i_pga_entropy": metrics[f"{name}_i_pga_entropy"]}
-    return metrics, {"point": img, "point_pga": af, "cuts": (m0, m1), "i": (img_i, af_i)}, row
+    return metrics, {"point": img, "point_pga": af, "cuts": cuts, "i": (img_i, af_i)}, row
+
+
+def wave_optics_screen_n(scenario: Scenario, cn2: float, col) -> int:
+    """Screen side that both models of a class share: what the wave-optics grids need.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    cn2 : float
+        m^(-2/3).
+    col : Collection
+
+    Returns
+    -------
+    int
+    """
+    return screen_size(_with(scenario, cn2, scenario.scene.points, model="wave_optics"), col)
+
+
+def compare_models(scenario: Scenario, name: str, cn2: float, row: dict, screen_n: int | None) -> tuple[dict, dict]:
+    """The point target of one class through the same screens with wave optics: its metrics
+    (``<class>_wo_``), images and cuts; ``row`` gains the ``wo_`` columns. Without turbulence the
+    two models are the same simulation and the phase-screen figures are copied.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    name : str
+    cn2 : float
+        m^(-2/3).
+    row : dict
+        The class's report row (phase-screen model), updated in place.
+    screen_n : int or None
+        The shared screen side (None without turbulence).
+
+    Returns
+    -------
+    (dict, dict)
+        Metrics and ``{"images": ..., "cuts": ...}`` (empty without turbulence).
+    """
+    lam = scenario.waveform.wavelength
+    if cn2 > 0:
+        m, imgs, cuts = point_images(scenario, f"{name}_wo", cn2, model="wave_optics", screen_n=screen_n)
+        R = float(np.linalg.norm(build_collection(scenario).center_position))
+        m[f"{name}_rytov_spherical"] = float(rytov_variance(cn2, R, lam, "spherical"))
+        m[f"{name}_screen_n"] = screen_n
+        out = {"images": imgs, "cuts": cuts}
+    else:
+        m = {f"{name}_wo_{k}": row[k] for k in KEYS}
+        m.update({f"{name}_wo_pga_{k}": row[f"pga_{k}"] for k in KEYS})
+        m[f"{name}_wo_pga_iterations"] = row["iterations"]
+        m[f"{name}_rytov_spherical"] = 0.0
+        out = {}
+    row.update({f"wo_{k}": m[f"{name}_wo_{k}"] for k in KEYS})
+    row.update({f"wo_pga_{k}": m[f"{name}_wo_pga_{k}"] for k in KEYS})
+    row["wo_iterations"] = m[f"{name}_wo_pga_iterations"]
+    row["rytov_spherical"] = m[f"{name}_rytov_spherical"]
+    return m, out
 
 
 def pga_steps(scenario: Scenario, image, worst: str) -> tuple[dict, dict]:
@@ -202,27 +287,40 @@ def run(scenario: Scenario, out_dir=None, progress: Progress = None) -> RunResul
     sf_metrics, sf_curves = screen_statistics(scenario, float(path.r0[0]))
     metrics.update(sf_metrics)
     i_pts = i_target_points(exp.i_target_extent, exp.i_target_spacing, scenario.seed)
-    data, cuts, i_images, rows = {}, {}, {}, []
+    data, cuts, i_images, rows, wo_cuts = {}, {}, {}, [], {}
+    wave = scenario.atmosphere is not None and scenario.atmosphere.model == "wave_optics"
     with warnings.catch_warnings():  # the replica warning was given once above
         warnings.filterwarnings("ignore", message="processing.grid spans")
         for ci, (name, cn2) in enumerate(exp.classes.items()):
             if progress:
                 progress("classes of turbulence", ci, len(exp.classes))
-            m, imgs, row = class_images(scenario, name, cn2, i_pts)
+            # side by side: both models through the same screens (sized for the wave-optics grids)
+            shared = {"model": "phase_screen", "screen_n": wave_optics_screen_n(scenario, cn2, col)} \
+                if wave and cn2 > 0 else {}
+            m, imgs, row = class_images(scenario, name, cn2, i_pts, **shared)
             metrics.update(m)
             rows.append(row)
             data[f"image_{name}.nc"], data[f"image_{name}_pga.nc"] = imgs["point"], imgs["point_pga"]
             cuts[name], i_images[name] = imgs["cuts"], imgs["i"]
+            if wave:
+                m, wo = compare_models(scenario, name, cn2, row, shared.get("screen_n"))
+                metrics.update(m)
+                wo_cuts[name] = wo.get("cuts", imgs["cuts"])
+                if wo:
+                    data[f"image_{name}_wave_optics.nc"] = wo["images"]["point"]
+                    data[f"image_{name}_wave_optics_pga.nc"] = wo["images"]["point_pga"]
         if progress:
             progress("classes of turbulence", len(exp.classes), len(exp.classes))
     ref = min(rows, key=lambda r: r["cn2"])["peak_amplitude"]  # the weakest class, turbulence-free if present
     for r in rows:  # peak over the reference peak: the damage where a broken peak makes IRW meaningless
-        r["peak_ratio"] = metrics[f"{r['name']}_peak_ratio"] = r["peak_amplitude"] / ref
-        r["pga_peak_ratio"] = metrics[f"{r['name']}_pga_peak_ratio"] = r["pga_peak_amplitude"] / ref
+        for pre in ("", "wo_") if wave else ("",):
+            for stage in ("", "pga_"):
+                key = f"{pre}{stage}peak_ratio"
+                r[key] = metrics[f"{r['name']}_{key}"] = r[f"{pre}{stage}peak_amplitude"] / ref
     worst = max(exp.classes, key=exp.classes.get)
     m, steps = pga_steps(scenario, i_images[worst][0], worst)
     metrics.update(m)
     metrics["run_s"] = time.perf_counter() - t0
     return RunResult("turbulence_pga", scenario.name, scenario.description, dump_scenario(scenario), metrics, data,
                      figures={"path": path, "structure_function": sf_curves, "cuts": cuts, "i_images": i_images,
-                              "worst": worst, "steps": steps, "rows": rows})
+                              "worst": worst, "steps": steps, "rows": rows, "wave_optics_cuts": wo_cuts})
