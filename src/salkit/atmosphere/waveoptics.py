@@ -458,7 +458,8 @@ def scintillation_index(fields: np.ndarray) -> float:
     return float(np.mean(inten ** 2) / np.mean(inten) ** 2 - 1.0)
 
 
-def wave_structure_function(fields: np.ndarray, dx: float, max_lag: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+def wave_structure_function(fields: np.ndarray, dx: float, max_lag: int | None = None,
+                            batches: int = 1):
     """Wave structure function D(r) = -2 ln |MCF(r)| / MCF(0) of an ensemble of homogeneous fields,
     the mutual coherence function averaged over both axes.
 
@@ -469,21 +470,32 @@ def wave_structure_function(fields: np.ndarray, dx: float, max_lag: int | None =
         m.
     max_lag : int, optional
         Default N // 8.
+    batches : int
+        With more than 1, the realisations are also split into this many batches and the standard
+        error of D across them is returned (the ensemble estimate's error bar).
 
     Returns
     -------
-    (r, D) : float64 arrays
-        m, rad^2.
+    (r, D) or (r, D, standard_error) : float64 arrays
+        m, rad^2, rad^2.
     """
     u = fields.astype(np.complex128)
     n = u.shape[-1]
     lags = np.arange(1, (max_lag or n // 8) + 1)
-    m0 = np.mean(np.abs(u) ** 2)
-    d = []
-    for s in lags:
-        g = 0.5 * (np.mean(u[..., s:] * np.conj(u[..., :-s])) + np.mean(u[..., s:, :] * np.conj(u[..., :-s, :])))
-        d.append(-2.0 * math.log(abs(g) / m0))
-    return lags * dx, np.asarray(d)
+
+    def estimate(v):
+        m0 = np.nanmean(np.abs(v) ** 2)
+        d = []
+        for s in lags:
+            g = 0.5 * (np.nanmean(v[..., s:] * np.conj(v[..., :-s])) + np.nanmean(v[..., s:, :] * np.conj(v[..., :-s, :])))
+            d.append(-2.0 * math.log(abs(g) / m0))
+        return np.asarray(d)
+
+    d = estimate(u)
+    if batches <= 1:
+        return lags * dx, d
+    parts = np.array([estimate(b) for b in np.array_split(u, batches) if len(b)])
+    return lags * dx, d, parts.std(axis=0, ddof=1) / math.sqrt(len(parts))
 
 
 def propagation_result(wave: str, wavelength: float, cn2: float, distance: float, count: int, seed: int = 0,

@@ -339,8 +339,14 @@ def wave_optics_plan(scenario: Scenario, col: Collection):
     ------
     SamplingError
         When the beam cannot be sampled on a grid of at most 4096^2.
+    ScenarioError
+        For a stripmap collection.
     """
     atm, lam = scenario.atmosphere, scenario.waveform.wavelength
+    if scenario.platform.mode != "spotlight":  # each beam is propagated towards the scene centre
+        raise ScenarioError("atmosphere.model", "wave_optics",
+                            f"needs a spotlight collection (the beam points at the scene centre), "
+                            f"not platform.mode = {scenario.platform.mode}")
     R = float(np.linalg.norm(col.center_position))
     u0 = col.center_position / R
     a = col.track - np.dot(col.track, u0) * u0
