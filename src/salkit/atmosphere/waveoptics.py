@@ -26,35 +26,10 @@ from ..constants import FFT_WORKERS
 from ..errors import SamplingError
 from ..signals.phase import sincos_cycles
 from .screens import phase_screens
+from .turbulence import r0_from_cn2, rytov_variance
 
 #: Largest grid side :func:`plan_sampling` accepts (a 4096^2 complex128 field is 256 MiB).
 MAX_N = 4096
-
-
-def rytov_variance(cn2: float, wavelength: float, distance: float, wave: str = "plane") -> float:
-    """Rytov variance sigma_R^2 of a plane wave, 1.23 Cn2 k^(7/6) L^(11/6), or of a spherical
-    wave, 0.5 Cn2 k^(7/6) L^(11/6) (uniform Cn2).
-
-    Parameters
-    ----------
-    cn2 : float
-        m^(-2/3).
-    wavelength, distance : float
-        m.
-    wave : {"plane", "spherical"}
-
-    Returns
-    -------
-    float
-
-    Examples
-    --------
-    >>> round(rytov_variance(1e-14, 1.55e-6, 1000.0), 4)
-    0.1991
-    """
-    k = 2 * math.pi / wavelength
-    coef = {"plane": 1.23, "spherical": 0.5}[wave]
-    return coef * cn2 * k ** (7 / 6) * distance ** (11 / 6)
 
 
 def scintillation_theory(rytov: float, wave: str = "plane") -> float:
@@ -67,7 +42,7 @@ def scintillation_theory(rytov: float, wave: str = "plane") -> float:
     Parameters
     ----------
     rytov : float
-        sigma_R^2 of the wave (:func:`rytov_variance` with the same ``wave``).
+        sigma_R^2 of the wave (:func:`salkit.atmosphere.rytov_variance` with the same ``wave``).
     wave : {"plane", "spherical"}
 
     Returns
@@ -177,28 +152,6 @@ def modified_spectrum(kappa: np.ndarray, inner_scale: float | None) -> np.ndarra
     return (1 + 1.802 * t - 0.254 * t ** (7 / 6)) * np.exp(-t * t)
 
 
-def fried_parameter(cn2: float, wavelength: float, distance: float, wave: str = "plane") -> float:
-    """Fried parameter of a path of uniform Cn2: plane wave (0.423 k^2 Cn2 L)^(-3/5), spherical
-    wave (0.423 k^2 Cn2 L 3/8)^(-3/5), m.
-
-    Parameters
-    ----------
-    cn2 : float
-        m^(-2/3).
-    wavelength, distance : float
-        m.
-    wave : {"plane", "spherical"}
-
-    Returns
-    -------
-    float
-        m.
-    """
-    k = 2 * math.pi / wavelength
-    w = {"plane": 1.0, "spherical": 3 / 8}[wave]
-    return (0.423 * k ** 2 * cn2 * distance * w) ** (-3 / 5)
-
-
 @dataclass(frozen=True)
 class Sampling:
     """The grid and steps of a propagation.
@@ -258,7 +211,7 @@ def plan_sampling(wavelength: float, distance: float, cn2: float, *, layers: int
         When the grid needs more than :data:`MAX_N` samples a side.
     """
     fresnel = math.sqrt(wavelength * distance)
-    r0 = fried_parameter(cn2, wavelength, distance) if cn2 > 0 else math.inf
+    r0 = float(r0_from_cn2(cn2, distance, wavelength)) if cn2 > 0 else math.inf
     if dx is None:
         dx = min(r0, fresnel) / 4.0
         if inner_scale:
@@ -275,11 +228,11 @@ def plan_sampling(wavelength: float, distance: float, cn2: float, *, layers: int
     if layers is None:
         layers = 10
         if cn2 > 0:
-            while (rytov_variance(cn2, wavelength, distance / layers) > 0.1
-                   or fried_parameter(cn2, wavelength, distance / layers) < 4 * dx) and layers < 1000:
+            while (rytov_variance(cn2, distance / layers, wavelength) > 0.1
+                   or r0_from_cn2(cn2, distance / layers, wavelength) < 4 * dx) and layers < 1000:
                 layers += 1
     dz = distance / layers
-    layer_r0 = fried_parameter(cn2, wavelength, dz) if cn2 > 0 else math.inf
+    layer_r0 = r0_from_cn2(cn2, dz, wavelength) if cn2 > 0 else math.inf
     return Sampling(n=n, dx=float(dx), layers=int(layers), dz=float(dz), layer_r0=float(layer_r0))
 
 
@@ -551,15 +504,15 @@ def propagation_result(wave: str, wavelength: float, cn2: float, distance: float
         si = scintillation_index(fields[np.isfinite(fields.real)])
     else:
         raise SamplingError("--wave", wave, "must be plane or spherical")
-    sig = rytov_variance(cn2, wavelength, distance, wave)
+    sig = float(rytov_variance(cn2, distance, wavelength, wave)) if cn2 > 0 else 0.0
     theory = {"scintillation_index_theory": scintillation_theory(sig, wave)}
     if inner_scale and wave == "plane":
         q = inner_scale_q(wavelength, distance, inner_scale)
         theory = {"scintillation_index_theory": scintillation_theory_inner_scale(sig, q), "inner_scale_m": inner_scale,
                   "inner_scale_q": q, "scintillation_index_theory_zero_inner_scale": scintillation_theory(sig, wave)}
     metrics = {"rytov_variance": sig, "scintillation_index": si, **theory,
-               "r0_plane_m": fried_parameter(cn2, wavelength, distance) if cn2 > 0 else math.inf,
-               "r0_spherical_m": fried_parameter(cn2, wavelength, distance, "spherical") if cn2 > 0 else math.inf,
+               "r0_plane_m": float(r0_from_cn2(cn2, distance, wavelength)) if cn2 > 0 else math.inf,
+               "r0_spherical_m": float(r0_from_cn2(cn2, distance, wavelength, "spherical")) if cn2 > 0 else math.inf,
                **grid, "realisations": count}
     ds = xr.Dataset({"field": (("realisation", "y", "x"), fields)},
                     coords={"realisation": np.arange(count), "y": x, "x": x},
@@ -711,7 +664,7 @@ def plan_spherical(wavelength: float, distance: float, cn2: float, receiver: flo
     lam, L = wavelength, distance
     fresnel = math.sqrt(lam * L)
     d2 = receiver or 8 * fresnel
-    r0 = fried_parameter(cn2, lam, L, "spherical") if cn2 > 0 else math.inf
+    r0 = float(r0_from_cn2(cn2, L, lam, "spherical")) if cn2 > 0 else math.inf
     d1 = lam * L / (4 * d2)
     spread = 2 * lam * L / r0 if math.isfinite(r0) else 0.0
     d1p, d2p = d1 + spread, d2 + spread
@@ -728,12 +681,12 @@ def plan_spherical(wavelength: float, distance: float, cn2: float, receiver: flo
                             "shorten the path or lower Cn2")
     if layers is None:
         layers = 10
-        while cn2 > 0 and rytov_variance(cn2, lam, L / layers, "spherical") > 0.1 and layers < 1000:
+        while cn2 > 0 and rytov_variance(cn2, L / layers, lam, "spherical") > 0.1 and layers < 1000:
             layers += 1
         while L / layers > min(delta1, deltan) ** 2 * n / lam and layers < 1000:
             layers += 1
     z = (0.0, *((np.arange(layers) + 0.5) * L / layers), L)
-    layer_r0 = fried_parameter(cn2, lam, L / layers) if cn2 > 0 else math.inf
+    layer_r0 = r0_from_cn2(cn2, L / layers, lam) if cn2 > 0 else math.inf
     return ScaledSampling(n=n, delta1=float(delta1), deltan=float(deltan), z=tuple(float(v) for v in z),
                           layer_r0=float(layer_r0), receiver=float(d2))
 
