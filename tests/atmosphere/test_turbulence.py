@@ -42,6 +42,7 @@ def test_classes_spacing_rytov():
     assert max_layer_spacing(1e-13, 2e-6) == pytest.approx(337.5, abs=0.1)  # the seed's 0.3375 km
     k = 2 * math.pi / 2e-6
     assert rytov_variance(1e-14, 1e4, 2e-6) == pytest.approx(1.23 * 1e-14 * k ** (7 / 6) * 1e4 ** (11 / 6))
+    assert rytov_variance(1e-14, 1e4, 2e-6, "spherical") == pytest.approx(0.5 * 1e-14 * k ** (7 / 6) * 1e4 ** (11 / 6))
 
 
 @pytest.mark.parametrize("bad", [-1e-14, 0.0, float("nan")])

@@ -196,7 +196,8 @@ def max_layer_spacing(cn2: float, wavelength: float) -> float:
 
 
 def rytov_variance(cn2, path_length, wavelength, wave: str = "plane"):
-    """Rytov variance sigma_R^2 = 1.23 Cn^2 k^(7/6) L^(11/6) (plane), 0.5 of it (spherical).
+    """Rytov variance sigma_R^2 = 1.23 Cn^2 k^(7/6) L^(11/6) (plane) or beta_0^2 = 0.5 Cn^2 k^(7/6) L^(11/6)
+    (spherical, Andrews and Phillips).
 
     Phase-only screens describe the field while sigma_R^2 << 1 (weak scintillation); beyond ~0.3
     amplitude effects matter and split-step propagation is needed.
@@ -218,8 +219,8 @@ def rytov_variance(cn2, path_length, wavelength, wave: str = "plane"):
     """
     cn2 = _positive("cn2", cn2)
     k = 2 * math.pi / wavelength
-    s = 1.23 * cn2 * k ** (7 / 6) * path_length ** (11 / 6)
-    return s if wave == "plane" else 0.5 * s
+    coef = 1.23 if wave == "plane" else 0.5  # spherical: beta_0^2 = 0.5 Cn2 k^(7/6) L^(11/6) = 0.41 sigma_R^2
+    return coef * cn2 * k ** (7 / 6) * path_length ** (11 / 6)
 
 
 def psd(f, r0: float, outer_scale: float | None = None, inner_scale: float | None = None):
