@@ -631,7 +631,10 @@ def main():  # pragma: no cover
     signal.signal(signal.SIGINT, _on_signal)
     sys.unraisablehook = _unraisable
     _STATE["argv"] = sys.argv[1:]
-    return app()
+    try:
+        return app()
+    except KeyboardInterrupt:  # an interrupt that escaped the command (e.g. while it was exiting):
+        sys.exit(130)          # the run folder is already discarded; exit as interrupted, not by SIGINT
 
 
 def _unraisable(u):  # pragma: no cover - exercised by the signal tests
