@@ -384,9 +384,30 @@ def plan_for_path(path, aperture: float, region: float, max_n: int = MAX_N) -> B
     BeamSampling
     """
     L = float(path.length)
-    w = np.sum(np.asarray(path.r0, float) ** (-5 / 3) * (np.asarray(path.z) / L) ** (5 / 3))
-    r0s = w ** (-3 / 5) if w > 0 else math.inf
-    return plan_beam(path.wavelength, L, aperture, region, r0s, np.asarray(path.z), max_n=max_n)
+    return plan_beam(path.wavelength, L, aperture, region, layered_r0_spherical(path.r0, path.z, L),
+                     np.asarray(path.z), max_n=max_n)
+
+
+def layered_r0_spherical(r0, z, length: float) -> float:
+    """Spherical-wave Fried parameter of discrete layers for a source at the scene:
+    r0_sph^(-5/3) = sum r0_i^(-5/3) (z_i / L)^(5/3), m (inf without turbulence).
+
+    Parameters
+    ----------
+    r0 : float array (L,)
+        Each layer's Fried parameter, m.
+    z : float array (L,)
+        Layer distances from the scene, m.
+    length : float
+        Path length, m.
+
+    Returns
+    -------
+    float
+        m.
+    """
+    w = float(np.sum(np.asarray(r0, float) ** (-5 / 3) * (np.asarray(z, float) / length) ** (5 / 3)))
+    return w ** (-3 / 5) if w > 0 else math.inf
 
 
 def screen_need(s: BeamSampling, length: float, swath: float) -> float:

@@ -259,14 +259,10 @@ def screen_size(scenario: Scenario, col: Collection) -> int:
         When an explicit ``atmosphere.screen_n`` is smaller than what the rays (or the grids) cross.
     """
     atm = scenario.atmosphere
-    R = float(np.linalg.norm(col.center_position))
-    u0 = col.center_position / R
+    R, u0, a, b = _los_frame(col)
     probe = scene_probe_points(scenario)
     # extent the rays cover on the layers: scene extent near the target, aperture near the platform
     ends = np.stack([col.positions[0], col.positions[-1], col.positions[col.n_pulses // 2]])
-    a = col.track - np.dot(col.track, u0) * u0
-    a /= np.linalg.norm(a)
-    b = np.cross(u0, a)
     need = 0.0
     for frac in (0.0, 0.5, 1.0 - 0.5 / atm.layers):
         q = ray_crossings(ends, probe, frac * R, u0)
@@ -313,6 +309,16 @@ def turbulent_path(scenario: Scenario, col: Collection):
                       inner_scale=atm.inner_scale)
 
 
+def _los_frame(col: Collection):
+    """Slant range R (m), the line of sight u0 (scene centre to aperture centre) and the layer
+    planes' axes: a along track (orthogonal to u0), b = u0 x a (the frame of build_path)."""
+    R = float(np.linalg.norm(col.center_position))
+    u0 = col.center_position / R
+    a = col.track - np.dot(col.track, u0) * u0
+    a /= np.linalg.norm(a)
+    return R, u0, a, np.cross(u0, a)
+
+
 def _swath(col: Collection, a: np.ndarray, b: np.ndarray) -> float:
     """Largest extent of the antenna positions across the line of sight (along a or b), m."""
     return float(max(np.ptp(col.positions @ a), np.ptp(col.positions @ b)))
@@ -347,19 +353,14 @@ def wave_optics_plan(scenario: Scenario, col: Collection):
         raise ScenarioError("atmosphere.model", "wave_optics",
                             f"needs a spotlight collection (the beam points at the scene centre), "
                             f"not platform.mode = {scenario.platform.mode}")
-    R = float(np.linalg.norm(col.center_position))
-    u0 = col.center_position / R
-    a = col.track - np.dot(col.track, u0) * u0
-    a /= np.linalg.norm(a)
-    b = np.cross(u0, a)
+    R, _, a, b = _los_frame(col)
     probe = scene_probe_points(scenario)
     radius = float(np.max(np.hypot(probe @ a, probe @ b)))
     region = max(2.2 * radius, 2.44 * lam * R / scenario.platform.real_aperture)
     dz = R / atm.layers
     z = (np.arange(atm.layers) + 0.5) * dz
     r0 = np.broadcast_to(np.asarray(r0_from_cn2(np.asarray(atm.cn2, float), dz, lam), float), (atm.layers,))
-    r0s = float(np.sum(r0 ** (-5 / 3) * (z / R) ** (5 / 3)) ** (-3 / 5))
-    return plan_beam(lam, R, scenario.platform.real_aperture, region, r0s, z), region
+    return plan_beam(lam, R, scenario.platform.real_aperture, region, layered_r0_spherical(r0, z, R), z), region
 
 
 def simulate(scenario, progress: ProgressFn = None, noise: bool | None = None,
@@ -482,7 +483,7 @@ from .._callable import make_callable as _make_callable  # noqa: E402
 from ..errors import ScenarioError
 from ..geometry.collection import pulse_count
 from ..atmosphere.path import ray_crossings, build_path
-from ..atmosphere.beam import plan_beam, screen_need, two_way_gains
+from ..atmosphere.beam import layered_r0_spherical, plan_beam, screen_need, two_way_gains
 from ..atmosphere.turbulence import r0_from_cn2
 from ..geometry.sampling import scene_probe_points
 from ..signals.chirp import reference_beat
