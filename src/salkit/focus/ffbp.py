@@ -142,75 +142,56 @@ def _polar_line(o, ea, er, cen, r0, dr, n, u):
 
 
 @njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
-def _leaf_line(prof, rp0, inv_drp, hi, pos, ref, weight, first, count, X0, X1, X2, r_line, cyc_per_m, tp,
-               acc_r, acc_i, idx_b, row_b, sn_b, cs_b):
-    """Backproject a leaf's pulses onto one polar line of points (baseband), two passes per
-    pulse: range, profile index, table row and phase for the whole line (vectorises); then the
-    4-tap gathers."""
+def _leaf_line(prof, rp0, inv_drp, pos, ref, weight, first, count, X0, X1, X2, r_line, cyc_per_m, tr,
+               acc2, fr_b, sn_b, cs_b, t2):
+    """Backproject a leaf's pulses onto one polar line of points (baseband): per pulse, the
+    profile bin position and phase of every point (SIMD), then the range pass (the profiles are
+    sampled at the polar grids' range spacing, so the line moves one profile bin per point)."""
     n = X0.shape[0]
-    T = tp.shape[0] - 1
+    nb = prof.shape[1] // 2
     for p in range(first, first + count):
         px = pos[p, 0]
         py = pos[p, 1]
         pz = pos[p, 2]
         rp = ref[p] + rp0
+        rf = ref[p]
         wp = weight[p]
         for k in range(n):
             e0 = X0[k] - px
             e1 = X1[k] - py
             e2 = X2[k] - pz
             R = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
-            xi = (R - rp) * inv_drp
-            ok = (xi >= 1.0) & (xi <= hi)
-            xi = min(max(xi, 1.0), hi)
-            fl = math.floor(xi)
-            idx_b[k] = np.int32(fl)
-            row_b[k] = np.int32((xi - fl) * T + 0.5)
-            cyc = (R - r_line[k] - ref[p]) * cyc_per_m
+            fr_b[k] = (R - rp) * inv_drp
+            cyc = (R - r_line[k] - rf) * cyc_per_m
             y = np.float32(cyc - math.floor(cyc + 0.5))
-            s, c = _sincos_cycles(y)
-            g = np.float32(ok) * wp
-            sn_b[k] = s * g
-            cs_b[k] = c * g
-        pf = prof[p]  # float32 (re, im) interleaved
-        for k in range(n):
-            i0 = np.uint32(2 * idx_b[k] - 2)
-            it = np.uint32(row_b[k])
-            w0 = tp[it, 0]
-            w1 = tp[it, 1]
-            w2 = tp[it, 2]
-            w3 = tp[it, 3]
-            vr = w0 * pf[i0] + w1 * pf[i0 + 2] + w2 * pf[i0 + 4] + w3 * pf[i0 + 6]
-            vi = w0 * pf[i0 + 1] + w1 * pf[i0 + 3] + w2 * pf[i0 + 5] + w3 * pf[i0 + 7]
-            s = sn_b[k]
-            c = cs_b[k]
-            acc_r[k] += vr * c - vi * s
-            acc_i[k] += vr * s + vi * c
+            sn, cs = _sincos_cycles(y)
+            sn_b[k] = sn * wp
+            cs_b[k] = cs * wp
+        _range_pass(fr_b, n, prof[p], 0, nb - 1, fr_b[n - 1] - fr_b[0], tr, sn_b, cs_b, acc2, t2)
 
 
 @njit(parallel=True, cache=True, fastmath=True, error_model="numpy")
 def _leaf_kernel(prof, rp0, inv_drp, pos, ref, weight, first, count, cen, o, ea, er,
-                 u0, du, nu, r0, dr, nr, cyc_per_m, tp, out):
-    """Backproject each leaf's pulses onto its polar grid, at baseband (4-tap table interpolation
-    of the oversampled range profiles)."""
+                 u0, du, nu, r0, dr, nr, cyc_per_m, tr, out):
+    """Backproject each leaf's pulses onto its polar grid, at baseband (6-tap least-squares
+    interpolation of range profiles sampled at the grid's range spacing)."""
     S, NU, NR = out.shape
-    hi = prof.shape[1] // 2 - 3.0
     for job in prange(S * NU):
         s = job // NU
         iu = job % NU
         if iu >= nu[s]:
             continue
         X0, X1, X2, rl, lo, top = _polar_line(o, ea, er, cen[s], r0[s], dr, nr[s], u0[s] + iu * du[s])
-        if top < lo:
+        if top < lo or top == lo:
             continue
         m = top + 1 - lo
-        acc_r = np.zeros(m, np.float32)
-        acc_i = np.zeros(m, np.float32)
-        _leaf_line(prof, rp0, inv_drp, hi, pos, ref, weight, first[s], count[s], X0[lo:top + 1], X1[lo:top + 1],
-                   X2[lo:top + 1], rl[lo:top + 1], cyc_per_m, tp, acc_r, acc_i, np.empty(m, np.int32),
-                   np.empty(m, np.int32), np.empty(m, np.float32), np.empty(m, np.float32))
+        acc2 = np.zeros(2 * m, np.float32)
+        _leaf_line(prof, rp0, inv_drp, pos, ref, weight, first[s], count[s], X0[lo:top + 1], X1[lo:top + 1],
+                   X2[lo:top + 1], rl[lo:top + 1], cyc_per_m, tr, acc2, np.empty(m), np.empty(m, np.float32),
+                   np.empty(m, np.float32), np.empty(2 * m, np.float32))
+        orow = out[s, iu, lo:top + 1]
         for k in range(m):
-            out[s, iu, lo + k] = complex(acc_r[k], acc_i[k])
+            orow[k] = complex(acc2[2 * k], acc2[2 * k + 1])
 
 
 #: Largest move of an interpolation fraction within one segment of constant weights' slope, samples.
@@ -240,6 +221,85 @@ def _segment_end(f0, f_at_e, f_at_mid, floor0, floor_e):
     integer part and moves little and linearly enough for weights linear along it."""
     return (floor_e == floor0 and abs(f_at_e - f0) <= SEG_FRACTION
             and abs(f_at_mid - 0.5 * (f0 + f_at_e)) <= SEG_CURVATURE)
+
+
+@njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
+def _range_pass(fr_b, n, h2, j_lo, j_hi, span, tr, sn_b, cs_b, acc2, t2):
+    """Interpolate a line's source (float32 (re, im) interleaved, bins j_lo .. j_hi) in range at
+    each point's bin position ``fr_b`` (increasing; ``span`` = fr_b[n-1] - fr_b[0]) with the 6-tap
+    table ``tr``, rotate by (cs, sn) and add to ``acc2``; points whose taps leave j_lo .. j_hi are
+    skipped. Where the line moves one bin per point (a polar line against a source sampled as
+    its range), in segments of weights linear along the segment over contiguous floats (SIMD);
+    otherwise point by point.
+    """
+    T = tr.shape[0] - 1
+    k_lo = 0
+    while k_lo < n and int(math.floor(fr_b[k_lo])) - 2 < j_lo:
+        k_lo += 1
+    k_hi = n - 1
+    while k_hi >= k_lo and int(math.floor(fr_b[k_hi])) + 3 > j_hi:
+        k_hi -= 1
+    if abs(span - (n - 1)) > 0.01 * (n - 1):  # not one bin per point (an image row): point by point
+        for k in range(k_lo, k_hi + 1):
+            fr = fr_b[k]
+            ir = int(math.floor(fr))
+            it = int((fr - ir) * T + 0.5)
+            b0 = 2 * (ir - 2 - j_lo)
+            vr = np.float32(0.0)
+            vi = np.float32(0.0)
+            for b in range(6):
+                vr += tr[it, b] * h2[b0 + 2 * b]
+                vi += tr[it, b] * h2[b0 + 2 * b + 1]
+            acc2[2 * k] += vr * cs_b[k] - vi * sn_b[k]
+            acc2[2 * k + 1] += vr * sn_b[k] + vi * cs_b[k]
+        return
+    # loops run over slices from 0 (an index that may be negative gets numba's wraparound, which
+    # LLVM vectorises with scatters)
+    tz = t2[2 * k_lo:2 * (k_hi + 1)]
+    for q in range(tz.shape[0]):
+        tz[q] = np.float32(0.0)
+    k = k_lo
+    while k <= k_hi:
+        f0 = fr_b[k]
+        ir = int(math.floor(f0))
+        off = ir - k
+        e = min(k + SEG_MAX - 1, k_hi)
+        if e > k:  # the fraction fr - (index) drifts slowly: first guess from its local drift
+            d = abs(fr_b[k + 1] - f0 - 1.0)
+            if d > 0.0:
+                e = min(e, k + max(int(SEG_FRACTION / d), 1))
+        while e > k:
+            km = (k + e) // 2
+            fe = fr_b[e] - (e + off)
+            fm = fr_b[km] - (km + off)
+            chord = (f0 - ir) + (fe - (f0 - ir)) * (km - k) / (e - k)
+            if _segment_end(f0 - ir, fe, fm - chord + 0.5 * ((f0 - ir) + fe), 0, int(math.floor(fe))):
+                break
+            e = k + (e - k) // 2
+        m2 = 2 * (e + 1 - k)
+        t0 = f0 - ir
+        t1 = fr_b[e] - math.floor(fr_b[e])
+        i0 = int(t0 * T + 0.5)
+        i1 = int(t1 * T + 0.5)
+        inv_m = np.float32(1.0 / (e - k)) if e > k else np.float32(0.0)
+        tt = t2[2 * k:2 * k + m2]
+        for b in range(6):
+            src = h2[2 * (k + off - 2 + b - j_lo):2 * (k + off - 2 + b - j_lo) + m2]
+            wb = tr[i0, b]
+            dwb = (tr[i1, b] - wb) * inv_m
+            for q in range(m2):
+                tt[q] += (wb + dwb * np.float32(q >> 1)) * src[q]
+        k = e + 1
+    sv = sn_b[k_lo:k_hi + 1]
+    cv = cs_b[k_lo:k_hi + 1]
+    a2 = acc2[2 * k_lo:2 * (k_hi + 1)]
+    for q in range(sv.shape[0]):  # phase restored
+        vr = tz[2 * q]
+        vi = tz[2 * q + 1]
+        a2[2 * q] += vr * cv[q] - vi * sv[q]
+        a2[2 * q + 1] += vr * sv[q] + vi * cv[q]
+
+
 
 
 @njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
@@ -318,68 +378,8 @@ def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, cx, cy, cz, dr_child, ea0,
                 for q in range(m2):
                     hh[q] += (wa + dwa * np.float32(q >> 1)) * row[q]
         j = e + 1
-    # pass 3: the cut interpolated in range at every point whose 6 bins lie in j_lo .. j_hi
-    k_lo = 0
-    while k_lo < n and int(math.floor(fr_b[k_lo])) - 2 < j_lo:
-        k_lo += 1
-    k_hi = n - 1
-    while k_hi >= k_lo and int(math.floor(fr_b[k_hi])) + 3 > j_hi:
-        k_hi -= 1
-    if abs(span - (n - 1)) > 0.01 * (n - 1):  # not one bin per point (an image row): point by point
-        for k in range(k_lo, k_hi + 1):
-            fr = fr_b[k]
-            ir = int(math.floor(fr))
-            it = int((fr - ir) * T + 0.5)
-            b0 = 2 * (ir - 2 - j_lo)
-            vr = np.float32(0.0)
-            vi = np.float32(0.0)
-            for b in range(6):
-                vr += tr[it, b] * h2[b0 + 2 * b]
-                vi += tr[it, b] * h2[b0 + 2 * b + 1]
-            acc2[2 * k] += vr * cs_b[k] - vi * sn_b[k]
-            acc2[2 * k + 1] += vr * sn_b[k] + vi * cs_b[k]
-        return
-    for q in range(2 * k_lo, 2 * (k_hi + 1)):
-        t2[q] = np.float32(0.0)
-    k = k_lo
-    while k <= k_hi:
-        f0 = fr_b[k]
-        ir = int(math.floor(f0))
-        off = ir - k
-        e = min(k + SEG_MAX - 1, k_hi)
-        if e > k:  # the fraction fr - (index) drifts slowly: first guess from its local drift
-            d = abs(fr_b[k + 1] - f0 - 1.0)
-            if d > 0.0:
-                e = min(e, k + max(int(SEG_FRACTION / d), 1))
-        while e > k:
-            km = (k + e) // 2
-            fe = fr_b[e] - (e + off)
-            fm = fr_b[km] - (km + off)
-            chord = (f0 - ir) + (fe - (f0 - ir)) * (km - k) / (e - k)
-            if _segment_end(f0 - ir, fe, fm - chord + 0.5 * ((f0 - ir) + fe), 0, int(math.floor(fe))):
-                break
-            e = k + (e - k) // 2
-        m2 = 2 * (e + 1 - k)
-        t0 = f0 - ir
-        t1 = fr_b[e] - math.floor(fr_b[e])
-        i0 = int(t0 * T + 0.5)
-        i1 = int(t1 * T + 0.5)
-        inv_m = np.float32(1.0 / (e - k)) if e > k else np.float32(0.0)
-        tt = t2[2 * k:2 * k + m2]
-        for b in range(6):
-            src = h2[2 * (k + off - 2 + b - j_lo):2 * (k + off - 2 + b - j_lo) + m2]
-            wb = tr[i0, b]
-            dwb = (tr[i1, b] - wb) * inv_m
-            for q in range(m2):
-                tt[q] += (wb + dwb * np.float32(q >> 1)) * src[q]
-        k = e + 1
-    for k in range(k_lo, k_hi + 1):  # phase restored
-        vr = t2[2 * k]
-        vi = t2[2 * k + 1]
-        sn = sn_b[k]
-        cs = cs_b[k]
-        acc2[2 * k] += vr * cs - vi * sn
-        acc2[2 * k + 1] += vr * sn + vi * cs
+    # pass 3: the cut interpolated in range at every point, phase restored
+    _range_pass(fr_b, n, h2, j_lo, j_hi, span, tr, sn_b, cs_b, acc2, t2)
 
 
 @njit(parallel=True, cache=True, fastmath=True, error_model="numpy")
@@ -408,8 +408,9 @@ def _merge_kernel(Gf, cu0, cdu, cnu, cr0, cnr, ccen, dr_child, factor, o, ea, er
             _accumulate_child(Gf, c, cu0[c], cdu[c], cnu[c], cr0[c], cnr[c], ccen[c, 0], ccen[c, 1], ccen[c, 2],
                               dr_child, ea[0], ea[1], ea[2], X0[lo:top + 1], X1[lo:top + 1], X2[lo:top + 1],
                               rl[lo:top + 1], cyc_per_m, tu, tr, acc2, fr_b, v_b, sn_b, cs_b, h2, t2)
+        orow = out[s, iu, lo:top + 1]
         for k in range(m):
-            out[s, iu, lo + k] = complex(acc2[2 * k], acc2[2 * k + 1])
+            orow[k] = complex(acc2[2 * k], acc2[2 * k + 1])
 
 
 @njit(parallel=True, cache=True, fastmath=True, error_model="numpy")
@@ -454,7 +455,7 @@ def _final_kernel(G, cu0, cdu, cnu, cr0, cnr, ccen, dr_child, o, ea, er, az, rg,
                 vr, vi = _rotate(vr, vi, rc * cyc_per_m)
                 acc_r += vr
                 acc_i += vi
-            out[i, j] = complex(acc_r, acc_i)
+            out[i, j] = complex(acc2)
 
 
 @njit(parallel=True, cache=True, fastmath=True, error_model="numpy")
@@ -582,16 +583,16 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     lam_min = c / float(freq[-1])
     f_c = float(freq[M // 2])
     cyc_per_m = 2.0 * f_c / c
-    dr = c / (2.0 * B * oversample_range)
+    # range profiles sampled at the polar grids' range spacing (at least oversample_range per
+    # resolution cell): a polar line then moves one profile bin per point
+    prof, rp0, dr, _ = range_profiles(ph, freq, oversample_range, np.asarray(range_window, np.float64))
     plane = grid.plane
     o = np.ascontiguousarray(plane.origin, np.float64)
     ea = np.ascontiguousarray(plane.azimuth, np.float64)
     er = np.ascontiguousarray(plane.range, np.float64)
     step = float(np.median(np.linalg.norm(np.diff(positions, axis=0), axis=1))) if P > 1 else 0.0
-    prof, rp0, drp, _ = range_profiles(ph, freq, upsample, np.asarray(range_window, np.float64))
-    tp = interpolation_table(4, prof.shape[1] / M)
     tu = interpolation_table(ANGLE_TAPS, oversample_angle)
-    tr = interpolation_table(6, oversample_range)
+    tr = interpolation_table(6, prof.shape[1] / M)
     w = np.asarray(azimuth_window, np.float32)
     # level 0: leaves of `leaf` pulses
     groups = [(a, min(a + leaf, P)) for a in range(0, P, leaf)]
@@ -607,8 +608,8 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     G = np.zeros((len(groups), int(nu.max()), int(nr.max())), np.complex64)
     first = np.array([a for a, _ in groups], np.int64)
     count = np.array([b - a for a, b in groups], np.int64)
-    _leaf_kernel(prof.view(np.float32), rp0, 1.0 / drp, positions, ref_range, w, first, count, centres, o, ea, er,
-                 u0, du, nu, r0, dr, nr, cyc_per_m, tp, G)
+    _leaf_kernel(prof.view(np.float32), rp0, 1.0 / dr, positions, ref_range, w, first, count, centres, o, ea, er,
+                 u0, du, nu, r0, dr, nr, cyc_per_m, tr, G)
     samples = [int((nu * nr).sum())]
     done += 1
     if progress:
