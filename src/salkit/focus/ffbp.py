@@ -49,6 +49,8 @@ OVERSAMPLE_RANGE = 1.75
 LEAF_UPSAMPLE = 4
 #: Taps of the angular interpolation (the range one has 6).
 ANGLE_TAPS = 8
+#: Taps of the leaves' range interpolation of the pulses' profiles.
+LEAF_TAPS = 8
 MARGIN = 4  # samples kept outside the image's extent on each side of a polar grid
 
 
@@ -226,28 +228,30 @@ def _segment_end(f0, f_at_e, f_at_mid, floor0, floor_e):
 @njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
 def _range_pass(fr_b, n, h2, j_lo, j_hi, span, tr, sn_b, cs_b, acc2, t2):
     """Interpolate a line's source (float32 (re, im) interleaved, bins j_lo .. j_hi) in range at
-    each point's bin position ``fr_b`` (increasing; ``span`` = fr_b[n-1] - fr_b[0]) with the 6-tap
-    table ``tr``, rotate by (cs, sn) and add to ``acc2``; points whose taps leave j_lo .. j_hi are
+    each point's bin position ``fr_b`` (increasing; ``span`` = fr_b[n-1] - fr_b[0]) with the table
+    ``tr`` (an even number of taps, from ir - taps/2 + 1 to ir + taps/2 around bin ir), rotate by (cs, sn) and add to ``acc2``; points whose taps leave j_lo .. j_hi are
     skipped. Where the line moves one bin per point (a polar line against a source sampled as
     its range), in segments of weights linear along the segment over contiguous floats (SIMD);
     otherwise point by point.
     """
     T = tr.shape[0] - 1
+    taps = tr.shape[1]
+    hb = taps // 2 - 1
     k_lo = 0
-    while k_lo < n and int(math.floor(fr_b[k_lo])) - 2 < j_lo:
+    while k_lo < n and int(math.floor(fr_b[k_lo])) - hb < j_lo:
         k_lo += 1
     k_hi = n - 1
-    while k_hi >= k_lo and int(math.floor(fr_b[k_hi])) + 3 > j_hi:
+    while k_hi >= k_lo and int(math.floor(fr_b[k_hi])) + taps - hb - 1 > j_hi:
         k_hi -= 1
     if abs(span - (n - 1)) > 0.01 * (n - 1):  # not one bin per point (an image row): point by point
         for k in range(k_lo, k_hi + 1):
             fr = fr_b[k]
             ir = int(math.floor(fr))
             it = int((fr - ir) * T + 0.5)
-            b0 = 2 * (ir - 2 - j_lo)
+            b0 = 2 * (ir - hb - j_lo)
             vr = np.float32(0.0)
             vi = np.float32(0.0)
-            for b in range(6):
+            for b in range(taps):
                 vr += tr[it, b] * h2[b0 + 2 * b]
                 vi += tr[it, b] * h2[b0 + 2 * b + 1]
             acc2[2 * k] += vr * cs_b[k] - vi * sn_b[k]
@@ -283,8 +287,8 @@ def _range_pass(fr_b, n, h2, j_lo, j_hi, span, tr, sn_b, cs_b, acc2, t2):
         i1 = int(t1 * T + 0.5)
         inv_m = np.float32(1.0 / (e - k)) if e > k else np.float32(0.0)
         tt = t2[2 * k:2 * k + m2]
-        for b in range(6):
-            src = h2[2 * (k + off - 2 + b - j_lo):2 * (k + off - 2 + b - j_lo) + m2]
+        for b in range(taps):
+            src = h2[2 * (k + off - hb + b - j_lo):2 * (k + off - hb + b - j_lo) + m2]
             wb = tr[i0, b]
             dwb = (tr[i1, b] - wb) * inv_m
             for q in range(m2):
@@ -593,6 +597,7 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     step = float(np.median(np.linalg.norm(np.diff(positions, axis=0), axis=1))) if P > 1 else 0.0
     tu = interpolation_table(ANGLE_TAPS, oversample_angle)
     tr = interpolation_table(6, prof.shape[1] / M)
+    tl = interpolation_table(LEAF_TAPS, prof.shape[1] / M)
     w = np.asarray(azimuth_window, np.float32)
     # level 0: leaves of `leaf` pulses
     groups = [(a, min(a + leaf, P)) for a in range(0, P, leaf)]
@@ -609,7 +614,7 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     first = np.array([a for a, _ in groups], np.int64)
     count = np.array([b - a for a, b in groups], np.int64)
     _leaf_kernel(prof.view(np.float32), rp0, 1.0 / dr, positions, ref_range, w, first, count, centres, o, ea, er,
-                 u0, du, nu, r0, dr, nr, cyc_per_m, tr, G)
+                 u0, du, nu, r0, dr, nr, cyc_per_m, tl, G)
     samples = [int((nu * nr).sum())]
     done += 1
     if progress:
