@@ -105,42 +105,52 @@ def _rotate(vr, vi, cyc):
     return vr * c - vi * s, vr * s + vi * c
 
 
-@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
-def _plane_point(o, ea, er, cen, r, u):
-    """The point of the image plane at distance r from ``cen`` with direction cosine u along ea,
-    on the far side of the antenna along er; (nan, nan, nan) when there is none."""
-    d0 = o[0] - cen[0]
-    d1 = o[1] - cen[1]
-    d2 = o[2] - cen[2]
-    da = d0 * ea[0] + d1 * ea[1] + d2 * ea[2]
-    dr = d0 * er[0] + d1 * er[1] + d2 * er[2]
-    h2 = d0 * d0 + d1 * d1 + d2 * d2 - da * da - dr * dr
-    rad = r * r * (1.0 - u * u) - h2
-    if rad < 0.0:
-        return np.nan, np.nan, np.nan
-    s = r * u - da
-    t = -dr + math.sqrt(rad)
-    return o[0] + s * ea[0] + t * er[0], o[1] + s * ea[1] + t * er[1], o[2] + s * ea[2] + t * er[2]
-
-
 @njit(cache=True, fastmath=True, inline="always", error_model="numpy")
 def _polar_line(o, ea, er, cen, r0, dr, n, u):
-    """The plane points of one polar line (direction cosine u, ranges r0 + k dr from ``cen``), their
-    ranges, and the first and last index that lie in the plane (top < lo: none)."""
+    """The plane points of one polar line (direction cosine u along ea, ranges r0 + k dr from
+    ``cen``, on the far side of ``cen`` along er), their ranges, and the first and last index that
+    lie in the plane (top < lo: none; entries before lo are not set).
+
+    A point at range r exists where r^2 (1 - u^2) >= h^2, h the distance from ``cen`` to the
+    plane's line along ea through the foot of ``cen``: from a range found in closed form on, so
+    the loop over the line has no branch and vectorises.
+    """
     X0 = np.empty(n)
     X1 = np.empty(n)
     X2 = np.empty(n)
     rl = np.empty(n)
-    lo = n
-    top = -1
-    for ir in range(n):
-        r = r0 + ir * dr
-        rl[ir] = r
-        X0[ir], X1[ir], X2[ir] = _plane_point(o, ea, er, cen, r, u)
-        if X0[ir] == X0[ir]:
-            lo = min(lo, ir)
-            top = ir
-    return X0, X1, X2, rl, lo, top
+    d0 = o[0] - cen[0]
+    d1 = o[1] - cen[1]
+    d2 = o[2] - cen[2]
+    da = d0 * ea[0] + d1 * ea[1] + d2 * ea[2]
+    dg = d0 * er[0] + d1 * er[1] + d2 * er[2]
+    h2 = d0 * d0 + d1 * d1 + d2 * d2 - da * da - dg * dg
+    w = 1.0 - u * u
+    if w <= 0.0:
+        return X0, X1, X2, rl, n, -1
+    lo = 0
+    if h2 > 0.0:
+        lo = max(0, int(math.ceil((math.sqrt(h2 / w) - r0) / dr)))
+        while lo < n and (r0 + lo * dr) ** 2 * w < h2:
+            lo += 1
+    if lo >= n:
+        return X0, X1, X2, rl, n, -1
+    x0 = X0[lo:]
+    x1 = X1[lo:]
+    x2 = X2[lo:]
+    rr = rl[lo:]
+    oa0 = o[0] - da * ea[0] - dg * er[0]
+    oa1 = o[1] - da * ea[1] - dg * er[1]
+    oa2 = o[2] - da * ea[2] - dg * er[2]
+    for q in range(n - lo):
+        r = r0 + (lo + q) * dr
+        rr[q] = r
+        sa = r * u
+        t = math.sqrt(max(r * r * w - h2, 0.0))
+        x0[q] = oa0 + sa * ea[0] + t * er[0]
+        x1[q] = oa1 + sa * ea[1] + t * er[1]
+        x2[q] = oa2 + sa * ea[2] + t * er[2]
+    return X0, X1, X2, rl, lo, n - 1
 
 
 @njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
