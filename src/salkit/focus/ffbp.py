@@ -469,7 +469,7 @@ def _final_kernel(G, cu0, cdu, cnu, cr0, cnr, ccen, dr_child, o, ea, er, az, rg,
                 vr, vi = _rotate(vr, vi, rc * cyc_per_m)
                 acc_r += vr
                 acc_i += vi
-            out[i, j] = complex(acc2)
+            out[i, j] = complex(acc_r, acc_i)
 
 
 @njit(parallel=True, cache=True, fastmath=True, error_model="numpy")
@@ -497,6 +497,13 @@ def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, dr_child, o, ea, er, az, rg, 
                               sn_b, cs_b, h2, t2)
         for j in range(ny):
             out[i, j] = complex(acc2[2 * j], acc2[2 * j + 1])
+
+
+def _rows_in_order(o: np.ndarray, er: np.ndarray, centres: np.ndarray, rg: np.ndarray) -> bool:
+    """Whether every image row (a line along ``er``) crosses each sub-aperture's range bins in
+    order: the range from a centre c grows along the row wherever (x - c).er > 0, so it is
+    enough that the row's first point lies beyond every centre along er."""
+    return rg.size > 1 and float(np.min((o - centres) @ er)) + float(rg[0]) > 0.0
 
 
 def _image_boundary(grid: ImageGrid, n: int = 64) -> np.ndarray:
@@ -651,11 +658,10 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
             progress(done, n_levels)
     img = np.zeros((grid.azimuth.size, grid.range.size), np.complex64)
     az, rg = np.asarray(grid.azimuth, np.float64), np.asarray(grid.range, np.float64)
-    # rows cross each child's range bins in order when every centre is on the near side of the image
-    near = float(np.min((o - centres) @ er)) + float(rg[0]) > 0.0 if rg.size else False
-    final = _final_rows if near and rg.size > 1 else _final_kernel
-    final(G.view(np.float32) if final is _final_rows else G, u0, du, nu, r0, nr, centres, dr, o, ea, er, az, rg,
-          cyc_per_m, tu, tr, img)
+    if _rows_in_order(o, er, centres, rg):
+        _final_rows(G.view(np.float32), u0, du, nu, r0, nr, centres, dr, o, ea, er, az, rg, cyc_per_m, tu, tr, img)
+    else:
+        _final_kernel(G, u0, du, nu, r0, nr, centres, dr, o, ea, er, az, rg, cyc_per_m, tu, tr, img)
     done += 1
     if progress:
         progress(done, done)
