@@ -25,8 +25,9 @@ same run. Run with ``make bench`` (or ``.venv/bin/python benchmarks/run_all.py``
   1024 x 1024.
 
 - ffbp: fast factorised backprojection against direct backprojection at 512^2, 1024^2 and 4096^2
-  pixels (as many pulses), direct BP timed on a block of rows and scaled; ffbp_knobs: the
-  accuracy-speed curve over the polar-grid oversampling.
+  pixels (as many pulses), direct BP timed on a block of rows and scaled, both the best of the
+  same number of runs; ffbp_knobs: the accuracy-speed curve over the polar-grid oversampling and
+  the leaf size at 1024^2.
 - propagation: split-step wave-optics propagation per realisation (10 screens) at N = 256, 512,
   1024 against the same propagation written plainly with np.fft; fields compared.
 - scaling: time and peak memory of each stage (simulate, phase history, BP, FFBP, PFA, PGA) at
@@ -455,29 +456,27 @@ def _ffbp_problem(n):
     return ph, f, pos, ref, ImageGrid(plane, az, rg, g)
 
 
-def bench_ffbp(sizes=((512, None), (1024, 256), (4096, 128))):
+def bench_ffbp(sizes=((512, None, 3), (1024, 256, 3), (4096, 128, 2))):
     """Fast factorised backprojection against direct backprojection on the same data (N x N pixels,
     N pulses): direct BP timed on blocks of R and R/2 rows around the centre, its per-row cost
     extrapolated to the image (the range profiles, a fixed cost, counted once), FFBP on the whole
-    image; the image error energy on the block."""
+    image; both the best of the same number of runs (the VM's spread is +-15 %); the image error
+    energy on the block."""
     from salkit.focus.backprojection import backproject
     from salkit.focus.ffbp import ffbp
     out = {}
-    for n, rows in sizes:
+    for n, rows, repeat in sizes:
         ph, f, pos, ref, grid = _ffbp_problem(n)
         plane, az, rg, M = grid.plane, grid.azimuth, grid.range, ph.shape[1]
-        t0 = time.perf_counter()
-        img, info = ffbp(ph, f, pos, ref, grid, np.ones(n), np.ones(M))
-        t_f = time.perf_counter() - t0
+        t_f, (img, info) = best_of(lambda: ffbp(ph, f, pos, ref, grid, np.ones(n), np.ones(M)), repeat)
         rows = rows or n
 
         def direct(k):
             sub = slice(n // 2 - k // 2, n // 2 + k // 2)
             a = az[sub]
-            t0 = time.perf_counter()
-            im = backproject(ph, f, pos, ref, plane.points(a, 0 * a), plane.range, rg,
-                             np.ones((a.size, n), np.float32), np.ones(M))
-            return time.perf_counter() - t0, im, sub
+            t, im = best_of(lambda: backproject(ph, f, pos, ref, plane.points(a, 0 * a), plane.range, rg,
+                                                np.ones((a.size, n), np.float32), np.ones(M)), repeat)
+            return t, im, sub
 
         backproject(ph[:8], f, pos[:8], ref[:8], plane.points(az[:2], 0 * az[:2]), plane.range, rg[:8],
                     np.ones((2, 8), np.float32), np.ones(M))
@@ -491,29 +490,33 @@ def bench_ffbp(sizes=((512, None), (1024, 256), (4096, 128))):
         err = np.sum(np.abs(ref_img - img[sub]) ** 2) / np.sum(np.abs(ref_img) ** 2)
         out.update({f"ffbp_{n}_s": t_f, f"ffbp_{n}_direct_bp_s": t_d, f"ffbp_{n}_speedup": t_d / t_f,
                     f"ffbp_{n}_error_db": float(10 * np.log10(err)), f"ffbp_{n}_levels": info["ffbp_levels"],
-                    f"ffbp_{n}_polar_samples_per_level": info["ffbp_polar_samples"]})
+                    f"ffbp_{n}_polar_samples_per_level": info["ffbp_polar_samples"], f"ffbp_{n}_runs": repeat})
     return out
 
 
-def bench_ffbp_knobs(n=512):
-    """The accuracy knob: image error against direct BP, and time, over the polar oversampling."""
+def bench_ffbp_knobs(n=1024):
+    """The accuracy knobs: image error against direct BP, and time (best of 3), over the polar
+    oversampling (angle x range) and the leaf size (pulses per first-level sub-image)."""
     from salkit.focus.backprojection import backproject
-    from salkit.focus.ffbp import ffbp
+    from salkit.focus.ffbp import LEAF_PULSES, OVERSAMPLE_ANGLE, OVERSAMPLE_RANGE, ffbp
     from salkit.focus.formers import ImageGrid
     ph, f, pos, ref, grid = _ffbp_problem(n)
     plane, az, rg, M = grid.plane, grid.azimuth, grid.range, ph.shape[1]
     ref_img = backproject(ph, f, pos, ref, plane.points(az, 0 * az), plane.range, rg, np.ones((n, n), np.float32),
                           np.ones(M))
     out = {}
-    for oa, orr in ((1.5, 1.5), (1.75, 1.75), (2.0, 1.75), (2.0, 2.0), (2.5, 2.5), (3.0, 3.0)):
+    cases = [(oa, orr, LEAF_PULSES) for oa, orr in ((1.5, 1.5), (1.6, 1.6), (1.75, 1.75), (2.0, 1.75), (2.0, 2.0),
+                                                   (2.5, 2.5), (3.0, 3.0))]
+    cases += [(OVERSAMPLE_ANGLE, OVERSAMPLE_RANGE, leaf) for leaf in (8, 32, 64)]
+    for oa, orr, leaf in cases:
+        kw = dict(oversample_angle=oa, oversample_range=orr, leaf=leaf)
         ffbp(ph[:256], f, pos[:256], ref[:256], ImageGrid(plane, az[:32], rg[:32], grid.spec), np.ones(256),
-             np.ones(M), oversample_angle=oa, oversample_range=orr)
-        t0 = time.perf_counter()
-        img, _ = ffbp(ph, f, pos, ref, grid, np.ones(n), np.ones(M), oversample_angle=oa, oversample_range=orr)
-        dt = time.perf_counter() - t0
+             np.ones(M), **kw)
+        dt, (img, _) = best_of(lambda: ffbp(ph, f, pos, ref, grid, np.ones(n), np.ones(M), **kw), 3)
         err = np.sum(np.abs(ref_img - img) ** 2) / np.sum(np.abs(ref_img) ** 2)
-        out[f"ffbp_knob_{oa:g}x{orr:g}_error_db"] = float(10 * np.log10(err))
-        out[f"ffbp_knob_{oa:g}x{orr:g}_s"] = dt
+        key = f"ffbp_knob_{oa:g}x{orr:g}_leaf{leaf}"
+        out[f"{key}_error_db"] = float(10 * np.log10(err))
+        out[f"{key}_s"] = dt
     return out
 
 

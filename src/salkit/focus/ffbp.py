@@ -192,10 +192,13 @@ def _leaf_kernel(prof, rp0, inv_drp, pos, ref, weight, first, count, cen, o, ea,
     for job in prange(S * NU):
         s = job // NU
         iu = job % NU
+        orow = out[s, iu]
+        for k in range(NR):  # every sample written (the grids are reused buffers, not zeroed)
+            orow[k] = 0j
         if iu >= nu[s]:
             continue
         X0, X1, X2, rl, lo, top = _polar_line(o, ea, er, cen[s], r0[s], dr, nr[s], u0[s] + iu * du[s])
-        if top < lo or top == lo:
+        if top <= lo:
             continue
         m = top + 1 - lo
         acc2 = np.zeros(2 * m, np.float32)
@@ -406,6 +409,9 @@ def _merge_kernel(Gf, cu0, cdu, cnu, cr0, cnr, ccen, dr_child, factor, o, ea, er
     for job in prange(S * NU):
         s = job // NU
         iu = job % NU
+        orow = out[s, iu]
+        for k in range(NR):  # every sample written (the grids are reused buffers, not zeroed)
+            orow[k] = 0j
         if iu >= nu[s]:
             continue
         X0, X1, X2, rl, lo, top = _polar_line(o, ea, er, cen[s], r0[s], dr, nr[s], u0[s] + iu * du[s])
@@ -625,7 +631,17 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
         n_levels += 1
     done = 0
     u0, du, nu, r0, nr = _polar_grids(centres, lengths, grid, lam_min, dr, oversample_angle)
-    G = np.zeros((len(groups), int(nu.max()), int(nr.max())), np.complex64)
+    # two buffers used in turn by the levels (one read, one written): their pages are faulted in
+    # once, not at every level (page faults inside the parallel kernels cost up to half a merge)
+    pool = [np.empty(0, np.complex64), np.empty(0, np.complex64)]
+
+    def grid_buffer(level, shape):
+        size = int(np.prod(shape))
+        if pool[level % 2].size < size:
+            pool[level % 2] = np.empty(size, np.complex64)
+        return pool[level % 2][:size].reshape(shape)
+
+    G = grid_buffer(0, (len(groups), int(nu.max()), int(nr.max())))
     first = np.array([a for a, _ in groups], np.int64)
     count = np.array([b - a for a, b in groups], np.int64)
     _leaf_kernel(prof.view(np.float32), rp0, 1.0 / dr, positions, ref_range, w, first, count, centres, o, ea, er,
@@ -645,7 +661,7 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
         pcen = np.array([(centres[a:b] * weights[a:b, None]).sum(axis=0) / pw[k] for k, (a, b) in enumerate(parents)])
         plen = _lengths(positions, spans, pcen, ea, step)
         pu0, pdu, pnu, pr0, pnr = _polar_grids(pcen, plen, grid, lam_min, dr, oversample_angle)
-        out = np.zeros((len(parents), int(pnu.max()), int(pnr.max())), np.complex64)
+        out = grid_buffer(done, (len(parents), int(pnu.max()), int(pnr.max())))
         _merge_kernel(G.view(np.float32), u0, du, nu, r0, nr, centres, dr, f_level, o, ea, er, pcen, pu0, pdu, pnu, pr0, dr, pnr,
                       cyc_per_m, tu, tr, out)
         G, centres, weights = out, pcen, pw
