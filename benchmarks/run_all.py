@@ -458,7 +458,7 @@ def _ffbp_problem(n):
 
 def bench_ffbp(sizes=((512, None, 3), (1024, 256, 3), (4096, 128, 2))):
     """Fast factorised backprojection against direct backprojection on the same data (N x N pixels,
-    N pulses): direct BP timed on blocks of R and R/2 rows around the centre, its per-row cost
+    N pulses): direct BP timed on blocks of R and 2 rows around the centre, its per-row cost
     extrapolated to the image (the range profiles, a fixed cost, counted once), FFBP on the whole
     image; both the best of the same number of runs (the VM's spread is +-15 %); the image error
     energy on the block."""
@@ -482,8 +482,8 @@ def bench_ffbp(sizes=((512, None, 3), (1024, 256, 3), (4096, 128, 2))):
                     np.ones((2, 8), np.float32), np.ones(M))
         t_full, ref_img, sub = direct(rows)
         if rows < n:  # the range profiles cost the same for any number of rows: extrapolate the rest
-            t_half, _, _ = direct(rows // 2)
-            per_row = (t_full - t_half) / (rows - rows // 2)
+            t_two, _, _ = direct(2)  # the fixed cost (range profiles) and two rows: the widest lever arm
+            per_row = (t_full - t_two) / (rows - 2)
             t_d = t_full + per_row * (n - rows)
         else:
             t_d = t_full
