@@ -219,7 +219,7 @@ def _layer(u, scale, screen, ca, cb, delta, dx, absorber):
                 phi = ((1 - wa) * ((1 - wb) * screen[i0, j0] + wb * screen[i0, j0 + 1])
                        + wa * ((1 - wb) * screen[i0 + 1, j0] + wb * screen[i0 + 1, j0 + 1]))
                 cyc = phi * inv2pi
-                y = np.float32(cyc - math.floor(cyc + 0.5))
+                y = np.float32(cyc - np.floor(cyc + 0.5))
                 sn, cs = sincos_cycles(y)
                 v = u[i, j]
                 u[i, j] = complex(ab * (v.real * cs - v.imag * sn), ab * (v.real * sn + v.imag * cs))

@@ -287,7 +287,7 @@ def _apply_screen(u, phi):
     for i in prange(n0):
         for j in range(n1):
             cyc = phi[i, j] * inv2pi
-            y = np.float32(cyc - math.floor(cyc + 0.5))
+            y = np.float32(cyc - np.floor(cyc + 0.5))
             sn, cs = sincos_cycles(y)
             v = u[i, j]
             u[i, j] = complex(v.real * cs - v.imag * sn, v.real * sn + v.imag * cs)

@@ -46,7 +46,7 @@ def _bp_row(pk, r0, inv_dr, hi, A, B, refp, rg, cyc_per_m, w, out_re, out_im, id
         idx[j] = i0
         frs[j] = np.float32(x - i0)
         cyc = dR * cyc_per_m
-        y = np.float32(cyc - math.floor(cyc + 0.5))  # in [-0.5, 0.5), reduced in float64 (vectorises)
+        y = np.float32(cyc - np.floor(cyc + 0.5))  # in [-0.5, 0.5), reduced in float64 (vectorises)
         s, c = _sincos_cycles(y)
         ss[j] = s * valid * w
         cs[j] = c * valid * w
@@ -245,7 +245,7 @@ def _contrib_kernel(packed, r0, inv_dr, pos, ref, pts, cyc_per_m, out):
             vr = pk[i0, 0] + f * pk[i0, 2]
             vi = pk[i0, 1] + f * pk[i0, 3]
             cyc = dR * cyc_per_m
-            y = np.float32(cyc - math.floor(cyc + 0.5))
+            y = np.float32(cyc - np.floor(cyc + 0.5))
             s, c = _sincos_cycles(y)
             out[p, k] = complex(vr * c - vi * s, vr * s + vi * c)
 

@@ -101,7 +101,7 @@ def interpolation_table(taps: int, oversample: float, steps: int = TABLE_STEPS) 
 @njit(cache=True, inline="always", fastmath=True, error_model="numpy")
 def _rotate(vr, vi, cyc):
     """(vr + j vi) exp(j 2 pi cyc), the cycles reduced in float64 before the float32 sin/cos."""
-    y = np.float32(cyc - math.floor(cyc + 0.5))
+    y = np.float32(cyc - np.floor(cyc + 0.5))
     s, c = _sincos_cycles(y)
     return vr * c - vi * s, vr * s + vi * c
 
@@ -176,7 +176,7 @@ def _leaf_line(prof, rp0, inv_drp, pos, ref, weight, first, count, X0, X1, X2, r
             R = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
             fr_b[k] = (R - rp) * inv_drp
             cyc = (R - r_line[k] - rf) * cyc_per_m
-            y = np.float32(cyc - math.floor(cyc + 0.5))
+            y = np.float32(cyc - np.floor(cyc + 0.5))
             sn, cs = _sincos_cycles(y)
             sn_b[k] = sn * wp
             cs_b[k] = cs * wp
@@ -348,7 +348,7 @@ def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, cx, cy, cz, dr_child, ea0,
         fr_b[k] = (rc - r0c) * inv_dr
         v_b[k] = ((e0 * ea0 + e1 * ea1 + e2 * ea2) / rc - u0c) * inv_du
         cyc = (rc - r_line[k]) * cyc_per_m
-        y = np.float32(cyc - math.floor(cyc + 0.5))
+        y = np.float32(cyc - np.floor(cyc + 0.5))
         sn, cs = _sincos_cycles(y)
         sn_b[k] = sn
         cs_b[k] = cs

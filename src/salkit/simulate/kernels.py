@@ -90,7 +90,7 @@ def simulate_linear(pos, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp, tab
                 continue
             # phase in cycles at n = nlo, reduced in float64
             cyc = -(f0 + k * (t0 + nlo * dt)) * dtau + 0.5 * k * dtau * dtau
-            cyc -= math.floor(cyc)
+            cyc -= np.floor(cyc)
             step = -_TWO_PI * k * dt * dtau
             ph = _TWO_PI * cyc
             if scr.shape[0] > 0:
@@ -218,7 +218,7 @@ def simulate_exact(pos, vel, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp,
                 cyc = -f0 * d + 0.5 * k * _poly_diff(t, d, 2)
                 for m in range(M):
                     cyc += coeffs[m] / (m + 3) * _poly_diff(t, d, m + 3)
-                cyc -= math.floor(cyc)
+                cyc -= np.floor(cyc)
                 ph = _TWO_PI * cyc + _etab(t - d, e_t0, e_dt, e_tab) - _etab(t, e_t0, e_dt, e_tab)
                 cph, sph = math.cos(ph), math.sin(ph)
                 out_re[p, n] += np.float32(ar * cph - ai * sph)
