@@ -400,6 +400,27 @@ def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, cx, cy, cz, dr_child, ea0,
     _range_pass(fr_b, n, h2, j_lo, j_hi, span, tr, sn_b, cs_b, acc2, t2)
 
 
+@njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
+def _line_from_children(Gf, c0, c1, cu0, cdu, cnu, cr0, cnr, ccen, dr_child, ea, X0, X1, X2, r_line, cyc_per_m,
+                        tu, tr, orow):
+    """Children c0 .. c1 - 1 summed along one line of points (a parent's polar line or an image
+    row) into ``orow``, each interpolated and its phase k (r_c - r_line) restored."""
+    m = X0.shape[0]
+    acc2 = np.zeros(2 * m, np.float32)
+    fr_b = np.empty(m)
+    v_b = np.empty(m)
+    sn_b = np.empty(m, np.float32)
+    cs_b = np.empty(m, np.float32)
+    h2 = np.empty(Gf.shape[2], np.float32)
+    t2 = np.empty(2 * m, np.float32)
+    for c in range(c0, c1):
+        _accumulate_child(Gf, c, cu0[c], cdu[c], cnu[c], cr0[c], cnr[c], ccen[c, 0], ccen[c, 1], ccen[c, 2], dr_child,
+                          ea[0], ea[1], ea[2], X0, X1, X2, r_line, cyc_per_m, tu, tr, acc2, fr_b, v_b, sn_b, cs_b,
+                          h2, t2)
+    for k in range(m):
+        orow[k] = complex(acc2[2 * k], acc2[2 * k + 1])
+
+
 @njit(parallel=True, cache=True, fastmath=True, error_model="numpy")
 def _merge_kernel(Gf, cu0, cdu, cnu, cr0, cnr, ccen, dr_child, factor, o, ea, er, cen, u0, du, nu, r0, dr, nr,
                   cyc_per_m, tu, tr, out):
@@ -417,21 +438,9 @@ def _merge_kernel(Gf, cu0, cdu, cnu, cr0, cnr, ccen, dr_child, factor, o, ea, er
         X0, X1, X2, rl, lo, top = _polar_line(o, ea, er, cen[s], r0[s], dr, nr[s], u0[s] + iu * du[s])
         if top < lo:
             continue
-        m = top + 1 - lo
-        acc2 = np.zeros(2 * m, np.float32)
-        fr_b = np.empty(m)
-        v_b = np.empty(m)
-        sn_b = np.empty(m, np.float32)
-        cs_b = np.empty(m, np.float32)
-        h2 = np.empty(Gf.shape[2], np.float32)
-        t2 = np.empty(2 * m, np.float32)
-        for c in range(s * factor, min(s * factor + factor, n_child)):
-            _accumulate_child(Gf, c, cu0[c], cdu[c], cnu[c], cr0[c], cnr[c], ccen[c, 0], ccen[c, 1], ccen[c, 2],
-                              dr_child, ea[0], ea[1], ea[2], X0[lo:top + 1], X1[lo:top + 1], X2[lo:top + 1],
-                              rl[lo:top + 1], cyc_per_m, tu, tr, acc2, fr_b, v_b, sn_b, cs_b, h2, t2)
-        orow = out[s, iu, lo:top + 1]
-        for k in range(m):
-            orow[k] = complex(acc2[2 * k], acc2[2 * k + 1])
+        _line_from_children(Gf, s * factor, min(s * factor + factor, n_child), cu0, cdu, cnu, cr0, cnr, ccen,
+                            dr_child, ea, X0[lo:top + 1], X1[lo:top + 1], X2[lo:top + 1], rl[lo:top + 1], cyc_per_m,
+                            tu, tr, out[s, iu, lo:top + 1])
 
 
 @njit(parallel=True, cache=True, fastmath=True, error_model="numpy")
@@ -490,20 +499,8 @@ def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, dr_child, o, ea, er, az, rg, 
         X0 = o[0] + az[i] * ea[0] + rg * er[0]
         X1 = o[1] + az[i] * ea[1] + rg * er[1]
         X2 = o[2] + az[i] * ea[2] + rg * er[2]
-        zero = np.zeros(ny)
-        acc2 = np.zeros(2 * ny, np.float32)
-        fr_b = np.empty(ny)
-        v_b = np.empty(ny)
-        sn_b = np.empty(ny, np.float32)
-        cs_b = np.empty(ny, np.float32)
-        h2 = np.empty(Gf.shape[2], np.float32)
-        t2 = np.empty(2 * ny, np.float32)
-        for c in range(Gf.shape[0]):
-            _accumulate_child(Gf, c, cu0[c], cdu[c], cnu[c], cr0[c], cnr[c], ccen[c, 0], ccen[c, 1], ccen[c, 2],
-                              dr_child, ea[0], ea[1], ea[2], X0, X1, X2, zero, cyc_per_m, tu, tr, acc2, fr_b, v_b,
-                              sn_b, cs_b, h2, t2)
-        for j in range(ny):
-            out[i, j] = complex(acc2[2 * j], acc2[2 * j + 1])
+        _line_from_children(Gf, 0, Gf.shape[0], cu0, cdu, cnu, cr0, cnr, ccen, dr_child, ea, X0, X1, X2,
+                            np.zeros(ny), cyc_per_m, tu, tr, out[i])
 
 
 def _rows_in_order(o: np.ndarray, er: np.ndarray, centres: np.ndarray, rg: np.ndarray) -> bool:
