@@ -58,3 +58,31 @@ def test_screens_refused():
         phase_screens(64, 0.01, 0.05, outer_scale=1.0, inner_scale=10.0)
     with pytest.raises(ScenarioError, match="seed = -4"):
         phase_screens(64, 0.01, 0.05, seed=-4)
+
+
+def test_ffbp_estimate_bounds_its_allocation():
+    """FFBP's estimate covers what it allocates (tracemalloc: its polar-grid buffers, profiles
+    and image) and is not far above it."""
+    import tracemalloc
+
+    import numpy as np
+
+    from salkit import simulate
+    from salkit.focus import memory_estimate, phase_history
+    from salkit.focus.formers import ImageGrid, get_former
+    from salkit.signals.windows import Window
+    sc = parse_scenario(SPOT)
+    raw = simulate(sc)
+    ph = phase_history(raw)
+    grid = ImageGrid.of(ph, sc.processing.grid)
+    former, win = get_former("ffbp"), Window("none")
+    former(ph, grid, win)  # compiled before measuring
+    tracemalloc.start()
+    former(ph, grid, win)
+    _, peak = tracemalloc.get_traced_memory()
+    tracemalloc.stop()
+    P, M = raw["signal"].shape
+    need, what = memory_estimate(P, M, sc.processing.grid.nx, sc.processing.grid.ny, "ffbp")
+    assert "ffbp" in what
+    assert peak <= need < 5 * peak, (peak, need)
+    assert np.isfinite(need)

@@ -37,7 +37,8 @@ def memory_estimate(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: 
     The signal (complex64, pulses x samples) once, and from raw data the deskew's 2N-point FFT
     buffers and the phase history (6 more); the image's float32 accumulators and complex64 output
     (24 bytes a pixel); PFA adds its formed (cover) grid and K-space buffer, omega-k its
-    Stolt-interpolated spectrum.
+    Stolt-interpolated spectrum, FFBP its two buffers of polar grids (each up to 3 times the
+    pixels, complex64: margins and padding) and its range profiles (about twice the signal).
 
     Parameters
     ----------
@@ -63,6 +64,8 @@ def memory_estimate(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: 
         need += 24.0 * max(cover_pixels or 0, px) + sig
     elif algorithm == "omegak":
         need += 4 * sig + 16.0 * px
+    elif algorithm == "ffbp":
+        need += 2 * 3.0 * 8.0 * px + 2 * sig
     return need, (f"focusing {n_pulses} pulses x {n_samples} samples onto {nx} x {ny} pixels "
                   f"({algorithm})")
 
