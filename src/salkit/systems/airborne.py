@@ -224,7 +224,10 @@ def focus_and_autofocus(raw: xr.Dataset, scenario: Scenario | None, data: dict, 
         cc = processing or (scenario.processing if scenario is not None else None)
         raw, af_metrics = pulse_correct(raw, grid_of(before),  # the pixels of the image
                                         cc.chirp_correction if cc is not None else "none")
-    image = focus(raw, processing, scenario=scenario, progress=stage(progress, "pulses focused"), **options)
+    proc = processing or (scenario.processing if scenario is not None else None)
+    alg = options.get("algorithm") or (proc.algorithm if proc is not None else "bp")
+    unit = "levels merged" if alg == "ffbp" else "pulses focused"  # ffbp reports its levels
+    image = focus(raw, processing, scenario=scenario, progress=stage(progress, unit), **options)
     if method not in ("none", "pulse"):
         data["image_focus.nc"] = image
         image, af_res, af_metrics = autofocus_image(image, scenario, method, kernel)
