@@ -186,8 +186,8 @@ def _leaf_line(prof, rp0, inv_drp, pos, ref, weight, first, count, X0, X1, X2, r
 @njit(parallel=True, cache=True, fastmath=True, error_model="numpy")
 def _leaf_kernel(prof, rp0, inv_drp, pos, ref, weight, first, count, cen, o, ea, er,
                  u0, du, nu, r0, dr, nr, cyc_per_m, tr, out):
-    """Backproject each leaf's pulses onto its polar grid, at baseband (6-tap least-squares
-    interpolation of range profiles sampled at the grid's range spacing)."""
+    """Backproject each leaf's pulses onto its polar grid, at baseband (``LEAF_TAPS``-tap
+    least-squares interpolation of range profiles sampled at the grid's range spacing)."""
     S, NU, NR = out.shape
     for job in prange(S * NU):
         s = job // NU
@@ -205,9 +205,9 @@ def _leaf_kernel(prof, rp0, inv_drp, pos, ref, weight, first, count, cen, o, ea,
         _leaf_line(prof, rp0, inv_drp, pos, ref, weight, first[s], count[s], X0[lo:top + 1], X1[lo:top + 1],
                    X2[lo:top + 1], rl[lo:top + 1], cyc_per_m, tr, acc2, np.empty(m), np.empty(m, np.float32),
                    np.empty(m, np.float32), np.empty(2 * m, np.float32))
-        orow = out[s, iu, lo:top + 1]
+        seg = out[s, iu, lo:top + 1]
         for k in range(m):
-            orow[k] = complex(acc2[2 * k], acc2[2 * k + 1])
+            seg[k] = complex(acc2[2 * k], acc2[2 * k + 1])
 
 
 #: Largest move of an interpolation fraction within one segment of constant weights' slope, samples.
@@ -232,21 +232,22 @@ def _angle_at(j, fr_b, v_b, n, inv_slope):
 
 
 @njit(cache=True, fastmath=True, inline="always", error_model="numpy")
-def _segment_end(f0, f_at_e, f_at_mid, floor0, floor_e):
-    """Whether a segment whose fraction goes f0 -> f_at_e (f_at_mid at its middle) keeps one
-    integer part and moves little and linearly enough for weights linear along it."""
+def _segment_end(f0, f_at_e, f_at_mid, chord, floor0, floor_e):
+    """Whether a segment whose fraction goes f0 -> f_at_e (f_at_mid at a middle point where the
+    chord between the ends is ``chord``) keeps one integer part and moves little and linearly
+    enough for weights linear along it."""
     return (floor_e == floor0 and abs(f_at_e - f0) <= SEG_FRACTION
-            and abs(f_at_mid - 0.5 * (f0 + f_at_e)) <= SEG_CURVATURE)
+            and abs(f_at_mid - chord) <= SEG_CURVATURE)
 
 
 @njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
 def _range_pass(fr_b, n, h2, j_lo, j_hi, span, tr, sn_b, cs_b, acc2, t2):
     """Interpolate a line's source (float32 (re, im) interleaved, bins j_lo .. j_hi) in range at
     each point's bin position ``fr_b`` (increasing; ``span`` = fr_b[n-1] - fr_b[0]) with the table
-    ``tr`` (an even number of taps, from ir - taps/2 + 1 to ir + taps/2 around bin ir), rotate by (cs, sn) and add to ``acc2``; points whose taps leave j_lo .. j_hi are
-    skipped. Where the line moves one bin per point (a polar line against a source sampled as
-    its range), in segments of weights linear along the segment over contiguous floats (SIMD);
-    otherwise point by point.
+    ``tr`` (an even number of taps, from ir - taps/2 + 1 to ir + taps/2 around bin ir), rotate by
+    (cs, sn) and add to ``acc2``; points whose taps leave j_lo .. j_hi are skipped. Where the line
+    moves one bin per point (a polar line against a source sampled as its range), in segments of
+    weights linear along the segment over contiguous floats (SIMD); otherwise point by point.
     """
     T = tr.shape[0] - 1
     taps = tr.shape[1]
@@ -291,7 +292,7 @@ def _range_pass(fr_b, n, h2, j_lo, j_hi, span, tr, sn_b, cs_b, acc2, t2):
             fe = fr_b[e] - (e + off)
             fm = fr_b[km] - (km + off)
             chord = (f0 - ir) + (fe - (f0 - ir)) * (km - k) / (e - k)
-            if _segment_end(f0 - ir, fe, fm - chord + 0.5 * ((f0 - ir) + fe), 0, int(math.floor(fe))):
+            if _segment_end(f0 - ir, fe, fm, chord, 0, int(math.floor(fe))):
                 break
             e = k + (e - k) // 2
         m2 = 2 * (e + 1 - k)
@@ -316,8 +317,6 @@ def _range_pass(fr_b, n, h2, j_lo, j_hi, span, tr, sn_b, cs_b, acc2, t2):
         vi = tz[2 * q + 1]
         a2[2 * q] += vr * cv[q] - vi * sv[q]
         a2[2 * q + 1] += vr * sv[q] + vi * cv[q]
-
-
 
 
 @njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
@@ -368,14 +367,15 @@ def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, cx, cy, cz, dr_child, ea0,
         iu = int(math.floor(f0))
         e = min(j + SEG_MAX - 1, j_hi)
         if e > j:  # first guess from the local slope, then halve until the segment qualifies
-            d = abs(_angle_at(j + 1, fr_b, v_b, n, inv_slope) - f0)
-            if d > 0.0:
-                room = min(SEG_FRACTION, (iu + 1 - f0) if _angle_at(j + 1, fr_b, v_b, n, inv_slope) > f0 else (f0 - iu))
+            f1 = _angle_at(j + 1, fr_b, v_b, n, inv_slope)
+            d = abs(f1 - f0)
+            if d > 0.0:  # room to the integer boundary it moves towards
+                room = min(SEG_FRACTION, (iu + 1 - f0) if f1 > f0 else (f0 - iu))
                 e = min(e, j + max(int(room / d), 1))
             while e > j:
                 fe = _angle_at(e, fr_b, v_b, n, inv_slope)
                 fm = _angle_at(0.5 * (j + e), fr_b, v_b, n, inv_slope)
-                if _segment_end(f0, fe, fm, iu, int(math.floor(fe))):
+                if _segment_end(f0, fe, fm, 0.5 * (f0 + fe), iu, int(math.floor(fe))):
                     break
                 e = j + (e - j) // 2
         m2 = 2 * (e + 1 - j)
@@ -567,7 +567,8 @@ def _lengths(positions: np.ndarray, groups: list, centres: np.ndarray, ea: np.nd
 
 
 def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.ndarray, grid: ImageGrid,
-         azimuth_window: np.ndarray, range_window: np.ndarray, leaf: int = LEAF_PULSES, factor: int = MERGE_FACTOR, oversample_angle: float = OVERSAMPLE_ANGLE, oversample_range: float = OVERSAMPLE_RANGE,
+         azimuth_window: np.ndarray, range_window: np.ndarray, leaf: int = LEAF_PULSES, factor: int = MERGE_FACTOR,
+         oversample_angle: float = OVERSAMPLE_ANGLE, oversample_range: float = OVERSAMPLE_RANGE,
          progress=None) -> tuple[np.ndarray, dict]:
     """Fast factorised backprojection onto ``grid``, unnormalised (as direct backprojection).
 
@@ -647,9 +648,9 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     done += 1
     if progress:
         progress(done, n_levels)
-    # merge until at most `factor` sub-images remain
+    # merge `factor` at a time, the last merge by two, until two sub-images remain for the final step
     spans = list(groups)
-    while G.shape[0] > 2:  # the last merge by two when fewer than 2 x factor remain: the final step reads 2
+    while G.shape[0] > 2:
         S = G.shape[0]
         f_level = factor if S > factor else 2
         parents = [(i, min(i + f_level, S)) for i in range(0, S, f_level)]
@@ -659,8 +660,8 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
         plen = _lengths(positions, spans, pcen, ea, step)
         pu0, pdu, pnu, pr0, pnr = _polar_grids(pcen, plen, grid, lam_min, dr, oversample_angle)
         out = grid_buffer(done, (len(parents), int(pnu.max()), int(pnr.max())))
-        _merge_kernel(G.view(np.float32), u0, du, nu, r0, nr, centres, dr, f_level, o, ea, er, pcen, pu0, pdu, pnu, pr0, dr, pnr,
-                      cyc_per_m, tu, tr, out)
+        _merge_kernel(G.view(np.float32), u0, du, nu, r0, nr, centres, dr, f_level, o, ea, er, pcen, pu0, pdu, pnu,
+                      pr0, dr, pnr, cyc_per_m, tu, tr, out)
         G, centres, weights = out, pcen, pw
         u0, du, nu, r0, nr = pu0, pdu, pnu, pr0, pnr
         samples.append(int((nu * nr).sum()))
