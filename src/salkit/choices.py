@@ -2,8 +2,9 @@
 tests all read them from here."""
 from .errors import ScenarioError
 
-#: Image formers: backprojection, polar format, omega-k, fast factorised backprojection.
-ALGORITHMS = ("bp", "pfa", "omegak", "ffbp")
+#: Image formers: backprojection, polar format, omega-k, fast factorised backprojection, the exact
+#: float64 matched filter (the truth, small grids).
+ALGORITHMS = ("bp", "pfa", "omegak", "ffbp", "exact")
 #: How the space-borne experiment stacks its sub-images.
 STACK_MODES = ("incoherent", "coherent")
 #: Turbulence models: phase-only screens along rays, or split-step wave optics (amplitude too).

@@ -23,7 +23,7 @@ from ..resources import check_memory
 from ..signals.windows import Window
 from ..tolerances import GRID_SPACING_OF_RESOLUTION
 from ..simulate import memory_estimate as simulate_memory_estimate, signal_shape
-from . import bp, ffbp, omegak, pfa  # noqa: F401  (each registers its former)
+from . import bp, exact, ffbp, omegak, pfa  # noqa: F401  (each registers its former)
 from .downlooking import focus_downlooking_raw
 from .formers import FORMERS, ImageGrid, ImageResult, get_former, register_former
 from .phasehistory import PhaseHistory, default_grid, phase_history, theory_resolution

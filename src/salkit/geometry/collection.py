@@ -53,11 +53,23 @@ class Collection:
 
 @dataclass(frozen=True)
 class ImagePlane:
-    """A plane through ``origin`` spanned by ``azimuth`` and ``range`` unit vectors."""
+    """A plane through ``origin`` spanned by orthonormal ``azimuth`` and ``range`` vectors.
+
+    The axes are checked on construction (unit length and orthogonal to 1e-9): pixel coordinates
+    are distances only in an orthonormal frame, and the formers that work in polar coordinates
+    (FFBP) rely on it.
+    """
 
     origin: np.ndarray
     azimuth: np.ndarray
     range: np.ndarray
+
+    def __post_init__(self):
+        a, r = np.asarray(self.azimuth, np.float64), np.asarray(self.range, np.float64)
+        bad = max(abs(float(a @ a) - 1.0), abs(float(r @ r) - 1.0), abs(float(a @ r)))
+        if not bad <= 1e-9:
+            raise ValueError(f"image plane axes must be orthonormal: |a|^2 - 1, |r|^2 - 1, a.r reach {bad:.3g} "
+                             f"(azimuth {a.tolist()}, range {r.tolist()})")
 
     def points(self, az: np.ndarray, rg: np.ndarray) -> np.ndarray:
         """3-D points (..., 3) of plane coordinates ``az``, ``rg`` (m), broadcast together."""
@@ -337,8 +349,12 @@ def image_plane(collection: Collection, grid: Grid) -> ImagePlane:
 def plane_from(track: np.ndarray, center_position: np.ndarray, plane: str = "slant") -> ImagePlane:
     """Image plane through the scene centre (origin).
 
-    The azimuth axis is the track direction; the range axis lies in the slant plane (through the
-    track and the scene centre) or in the ground plane, pointing away from the platform.
+    Slant plane: the azimuth axis is the track direction, the range axis is perpendicular to it
+    in the plane through the track and the scene centre. Ground plane (horizontal, z up): the
+    azimuth axis is the track's horizontal projection and the range axis the horizontal
+    perpendicular to it. Both frames are orthonormal and the range axis points away from the
+    platform. (Before 0.10 the ground plane's azimuth axis was the track itself: a climbing track
+    tilted that "ground" plane and skewed its axes by the climb angle, which broke FFBP.)
     The origin is the scene centre; pixel coordinates are measured from it.
 
     Parameters
@@ -354,12 +370,15 @@ def plane_from(track: np.ndarray, center_position: np.ndarray, plane: str = "sla
     ImagePlane
     """
     a = np.asarray(track, dtype=np.float64)
-    a = a / np.linalg.norm(a)
     look = -np.asarray(center_position, dtype=np.float64)  # aperture centre -> scene centre
-    perp = look - np.dot(look, a) * a
     if plane == "ground":
-        perp = perp - np.dot(perp, [0.0, 0.0, 1.0]) * np.array([0.0, 0.0, 1.0])
+        a = a - a[2] * np.array([0.0, 0.0, 1.0])
+        look = look - look[2] * np.array([0.0, 0.0, 1.0])
+    a = a / np.linalg.norm(a)
+    perp = look - np.dot(look, a) * a
     r = perp / np.linalg.norm(perp)
+    r = r - np.dot(r, a) * a  # once more: orthogonal to rounding
+    r = r / np.linalg.norm(r)
     return ImagePlane(origin=np.zeros(3), azimuth=a, range=r)
 
 
