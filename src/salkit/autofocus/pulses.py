@@ -18,6 +18,7 @@ from ..focus.backprojection import pulse_contributions, range_profiles
 from ..geometry.collection import grid_axes, plane_from
 from ..params.models import Grid
 from .sharpness import PulseAutofocusResult, pulse_sharpness
+from ..tolerances import BP_UPSAMPLE
 
 #: Largest contribution matrix (pulses x pixels) held in memory: 2**26 complex64 = 512 MiB.
 MAX_ENTRIES = 2 ** 26
@@ -122,7 +123,7 @@ def as_dataset(ph: PhaseHistory, data: np.ndarray, attrs: dict | None = None) ->
 
 def pulse_autofocus(raw: xr.Dataset, grid: Grid | None = None, *, chirp_correction: str = "none",
                     plane: str | None = None, max_sweeps: int = 10, tol: float = 1e-3,
-                    max_entries: int = MAX_ENTRIES, upsample: int = 8) -> tuple[xr.Dataset, PulseAutofocusResult]:
+                    max_entries: int = MAX_ENTRIES, upsample: int = BP_UPSAMPLE) -> tuple[xr.Dataset, PulseAutofocusResult]:
     """Estimate one phase per pulse by backprojection sharpness and correct the phase history.
 
     Parameters

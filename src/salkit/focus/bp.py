@@ -14,10 +14,11 @@ from .backprojection import backproject
 from .formers import ImageGrid, ImageResult, register_former
 from .phasehistory import PhaseHistory
 from .stripmap_bp import stripmap_backprojection
+from ..tolerances import BP_UPSAMPLE
 
 
 @register_former("bp")
-def form_bp(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = 8,
+def form_bp(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = BP_UPSAMPLE,
             progress=None) -> ImageResult:
     """Backprojection image (the registered ``bp`` former).
 

@@ -25,6 +25,7 @@ from ..errors import ScenarioError
 from ..signals.windows import Window
 from .formers import ImageGrid, ImageResult, register_former
 from .phasehistory import PhaseHistory
+from ..tolerances import BP_UPSAMPLE
 
 #: Longest estimated run the ``exact`` former accepts, s (environment ``SALKIT_EXACT_MAX_SECONDS``
 #: overrides it).
@@ -176,7 +177,7 @@ def exact_image(data: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_r
 
 
 @register_former("exact")
-def form_exact(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = 8,
+def form_exact(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = BP_UPSAMPLE,
                progress=None) -> ImageResult:
     """The exact float64 matched filter (the registered ``exact`` former), normalised as ``bp``.
 

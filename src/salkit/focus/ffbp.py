@@ -41,6 +41,7 @@ from ..signals.windows import Window
 from .backprojection import _sincos_cycles, range_profiles
 from .formers import ImageGrid, ImageResult, register_former
 from .phasehistory import PhaseHistory
+from ..tolerances import BP_UPSAMPLE
 
 #: Default accuracy settings (image error about -44 dB against direct backprojection).
 LEAF_PULSES = 16
@@ -681,7 +682,7 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
 
 
 @register_former("ffbp")
-def form_ffbp(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = 8,
+def form_ffbp(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = BP_UPSAMPLE,
               progress=None) -> ImageResult:
     """Fast factorised backprojection (the registered ``ffbp`` former), normalised as ``bp``.
 

@@ -2,7 +2,7 @@
 
 Every former is a function
 
-    form(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = 8,
+    form(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = BP_UPSAMPLE,
          progress=None) -> ImageResult
 
 whose image is normalised so that a unit-reflectance point at the beam centre peaks near 1
@@ -23,6 +23,7 @@ from ..geometry.collection import ImagePlane, grid_axes, plane_from
 from ..params.models import Grid
 from ..signals.windows import Window
 from .phasehistory import PhaseHistory
+from ..tolerances import BP_UPSAMPLE
 
 
 @dataclass(frozen=True)
@@ -86,7 +87,7 @@ class ImageResult:
 class Former(Protocol):
     """The signature every image former has."""
 
-    def __call__(self, ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = 8,
+    def __call__(self, ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = BP_UPSAMPLE,
                  progress: Optional[Callable[[int, int], None]] = None) -> ImageResult: ...
 
 

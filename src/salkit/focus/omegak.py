@@ -20,6 +20,7 @@ from ..signals.windows import Window
 from .formers import ImageGrid, ImageResult, register_former
 from .interp import resample_rows
 from .phasehistory import PhaseHistory
+from ..tolerances import BP_UPSAMPLE
 
 WORKERS = FFT_WORKERS
 
@@ -120,7 +121,7 @@ def omegak(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: n
 
 
 @register_former("omegak")
-def form_omegak(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = 8,
+def form_omegak(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = BP_UPSAMPLE,
                 progress=None) -> ImageResult:
     """Omega-k image of a stripmap collection on a straight track (the registered ``omegak``
     former).

@@ -27,6 +27,7 @@ from .formers import ImageGrid, ImageResult, register_former
 from .phasehistory import PhaseHistory
 from .interp import azimuth_pass, interp_rows_linear, kernel_table
 from ..resources import check_memory
+from ..tolerances import BP_UPSAMPLE
 
 WORKERS = FFT_WORKERS
 
@@ -299,7 +300,7 @@ def pfa_on_grid(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_ran
 
 
 @register_former("pfa")
-def form_pfa(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = 8,
+def form_pfa(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = BP_UPSAMPLE,
              progress=None) -> ImageResult:
     """Polar format image of a spotlight collection (the registered ``pfa`` former).
 

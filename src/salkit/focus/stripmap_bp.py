@@ -21,6 +21,7 @@ import scipy.fft as sfft
 from ..geometry.collection import beam_gain, beam_gain_table, two_way_3db_sin
 from .backprojection import backproject
 from ..constants import FFT_WORKERS
+from ..tolerances import BP_UPSAMPLE
 
 _NULL = 1.2196698912665045  # first null of the Airy pattern, in lambda / D
 
@@ -31,7 +32,7 @@ def _window_continuous(win, x):
     return np.interp(x, np.linspace(0, 1, ref.size), ref)
 
 
-def stripmap_backprojection(ph, plane, az, rg, win, upsample=8, progress=None):
+def stripmap_backprojection(ph, plane, az, rg, win, upsample=BP_UPSAMPLE, progress=None):
     """Focus stripmap data by full-beam backprojection and Doppler-domain equalisation.
 
     Parameters

@@ -13,6 +13,7 @@ from pydantic import BaseModel, ConfigDict, Discriminator, Field, Tag, field_val
 
 from ..choices import ALGORITHMS, ATMOSPHERE_MODELS, AUTOFOCUS_METHODS, CHIRP_CORRECTIONS, PGA_KERNELS, PLANES, STACK_MODES, WINDOWS
 from ..constants import SPEED_OF_LIGHT
+from ..tolerances import BP_UPSAMPLE
 
 
 class _Frozen(BaseModel):
@@ -339,7 +340,7 @@ class Processing(_Frozen):
         default="none", description="pga / min-entropy on the image; pulse: one phase per pulse on the phase history")
     autofocus_kernel: Literal[PGA_KERNELS] = "lumv"
     autofocus_max_iter: int = Field(default=30, ge=1, le=500)
-    range_upsample: int = Field(default=8, ge=2, le=64, description="backprojection profile upsampling")
+    range_upsample: int = Field(default=BP_UPSAMPLE, ge=2, le=64, description="backprojection profile upsampling (16: -67 dB against the exact matched filter, 32: -78 dB)")
     chirp_correction: Literal[CHIRP_CORRECTIONS] = Field(
         default="none", description="nonlinear-chirp correction from the reference channel")
 
