@@ -5,6 +5,9 @@ from .errors import ScenarioError
 #: Image formers: backprojection, polar format, omega-k, fast factorised backprojection, the exact
 #: float64 matched filter (the truth, small grids).
 ALGORITHMS = ("bp", "pfa", "omegak", "ffbp", "exact")
+#: Image-formation accuracy: standard (bp -67 dB, ffbp -58 to -61 dB against the exact matched
+#: filter) or high, for interferometry (bp -78 dB, ffbp -63 to -74 dB).
+ACCURACY = ("standard", "high")
 #: How the space-borne experiment stacks its sub-images.
 STACK_MODES = ("incoherent", "coherent")
 #: Turbulence models: phase-only screens along rays, or split-step wave optics (amplitude too).

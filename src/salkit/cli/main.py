@@ -202,7 +202,7 @@ def _grid(nx, ny, dx, dy, plane):
 def run(scenario: Path = typer.Argument(..., metavar="SCENARIO.yaml", help="scenario file (salkit examples lists the shipped ones)"),
         out_dir: Path = typer.Option(..., "--out", metavar="DIR", help="output folder (complete or absent after the run)"),
         set_: List[str] = typer.Option([], "--set", metavar="KEY=VALUE", help="override a field in its SI unit, e.g. waveform.prf=2000 (Hz); repeatable"),
-        algorithm: Optional[str] = typer.Option(None, metavar="NAME", help="override processing.algorithm: bp | pfa | omegak | ffbp"),
+        algorithm: Optional[str] = typer.Option(None, metavar="NAME", help="override processing.algorithm: bp | pfa | omegak | ffbp | exact"),
         workers: Optional[int] = typer.Option(None, metavar="N", help="Dask worker processes of a local cluster (stacking runs; default: one per core)"),
         scheduler: Optional[str] = typer.Option(None, metavar="ADDRESS", help="address of an existing Dask scheduler, e.g. tcp://host:8786"),
         overwrite: bool = typer.Option(False, "--overwrite", help="replace a non-empty --out once the new run is complete"),
@@ -309,7 +309,8 @@ def _check_out_file(path: Path, overwrite: bool, field: str = "--out") -> None:
 @_guard
 def focus(raw: Path = typer.Argument(..., metavar="RAW", help="raw or phase-history file: .nc, .cphd or GOTCHA .mat"),
           out_dir: Path = typer.Option(..., "--out", metavar="DIR", help="output folder (complete or absent after the run)"),
-          algorithm: Optional[str] = typer.Option(None, metavar="NAME", help="bp | pfa | omegak | ffbp (fast factorised backprojection, spotlight)"),
+          algorithm: Optional[str] = typer.Option(None, metavar="NAME", help="bp | pfa | omegak | ffbp (fast factorised backprojection, spotlight) | exact (float64 matched filter, the truth; small grids)"),
+          accuracy: Optional[str] = typer.Option(None, metavar="LEVEL", help="standard | high (interferometric: bp -78 dB, ffbp -63 to -74 dB against the exact matched filter)"),
           window: Optional[str] = typer.Option(None, metavar="NAME", help="amplitude window: none | hamming | taylor"),
           nx: Optional[int] = typer.Option(None, metavar="PIXELS", help="grid size along azimuth, pixels (with --ny, --dx, --dy)"),
           ny: Optional[int] = typer.Option(None, metavar="PIXELS", help="grid size along range, pixels"),
@@ -323,8 +324,9 @@ def focus(raw: Path = typer.Argument(..., metavar="RAW", help="raw or phase-hist
     """Focus a raw file (.nc, .cphd or GOTCHA .mat) into image.nc, metrics.json, figures and report.html."""
     from ..report import write_run
     from ..systems.airborne import focus_file
-    from ..choices import ALGORITHMS, AUTOFOCUS_METHODS, PGA_KERNELS, PLANES, WINDOWS, check_choice
-    for opt, v, allowed in (("--algorithm", algorithm, ALGORITHMS), ("--window", window, WINDOWS),
+    from ..choices import ACCURACY, ALGORITHMS, AUTOFOCUS_METHODS, PGA_KERNELS, PLANES, WINDOWS, check_choice
+    for opt, v, allowed in (("--algorithm", algorithm, ALGORITHMS), ("--accuracy", accuracy, ACCURACY),
+                            ("--window", window, WINDOWS),
                             ("--autofocus", autofocus, AUTOFOCUS_METHODS), ("--kernel", kernel, PGA_KERNELS),
                             ("--plane", plane, PLANES)):
         if v is not None:
@@ -340,7 +342,7 @@ def focus(raw: Path = typer.Argument(..., metavar="RAW", help="raw or phase-hist
         from .. import plot
         from ..focus import focus as form_image
         from ..io import write_dataset
-        image = form_image(probe, algorithm=algorithm, window_name=window, grid=grid, plane=plane)
+        image = form_image(probe, algorithm=algorithm, window_name=window, grid=grid, plane=plane, accuracy=accuracy)
         with RunFolder(out_dir, overwrite=overwrite) as tmp:
             write_dataset(image, tmp / "image.nc")
             plot.image_db(image, tmp / "image.png", title="DL-SAL eq-19 image")
@@ -355,7 +357,8 @@ def focus(raw: Path = typer.Argument(..., metavar="RAW", help="raw or phase-hist
     with RunFolder(out_dir, overwrite=overwrite) as tmp:
         with _Bar() as bar:
             m = write_run(focus_file(ds, algorithm=algorithm, window_name=window, grid=grid, progress=bar,
-                                     autofocus=autofocus, kernel=kernel, plane=plane), tmp, command=_command_line())
+                                     autofocus=autofocus, kernel=kernel, plane=plane, accuracy=accuracy), tmp,
+                          command=_command_line())
         if sicd:
             _export_sicd(tmp / "image.nc", tmp / "image.nitf", None)
     _summary(m, out_dir)

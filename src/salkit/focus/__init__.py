@@ -12,7 +12,7 @@ from typing import Callable, Optional
 import numpy as np
 import xarray as xr
 
-from ..choices import PLANES, check_choice
+from ..choices import ACCURACY, PLANES, check_choice
 from ..errors import ScenarioError
 from ..geometry.collection import truth_positions
 from ..io.datasets import make_image_dataset
@@ -28,6 +28,9 @@ from .downlooking import focus_downlooking_raw
 from .formers import FORMERS, ImageGrid, ImageResult, get_former, register_former
 from .phasehistory import PhaseHistory, default_grid, phase_history, theory_resolution
 from .rangecomp import range_compress
+
+#: Range-profile upsampling of ``bp`` at ``accuracy = "high"`` (-78 dB against the exact matched filter).
+HIGH_ACCURACY_UPSAMPLE = 32
 
 
 def memory_estimate(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str = "bp",
@@ -92,7 +95,7 @@ def run_memory_estimate(scenario: Scenario) -> tuple[float, str]:
 
 def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=None, algorithm: str | None = None,
           grid: Grid | None = None, window_name: str | None = None, plane: str | None = None,
-          progress: Optional[Callable[[int, int], None]] = None) -> xr.Dataset:
+          progress: Optional[Callable[[int, int], None]] = None, accuracy: str | None = None) -> xr.Dataset:
     """Form a complex image from raw data or a phase history, with the processor its kind names.
 
     Parameters
@@ -116,6 +119,8 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=
         Overrides the grid's image plane (the grid's size and spacing are kept).
     progress : callable, optional
         ``progress(done, total)`` in pulses.
+    accuracy : {"standard", "high"}, optional
+        Overrides ``processing.accuracy`` (high: bp at 32x profiles or more, ffbp on finer polar grids).
 
     Returns
     -------
@@ -139,12 +144,13 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=
     """
     proc = PROCESSORS.get(str(raw.attrs.get("salkit_kind", "raw")), focus_sal)
     return proc(raw, processing, scenario=scenario, algorithm=algorithm, grid=grid, window_name=window_name,
-                plane=plane, progress=progress)
+                plane=plane, progress=progress, accuracy=accuracy)
 
 
 def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=None,
               algorithm: str | None = None, grid: Grid | None = None, window_name: str | None = None,
-              plane: str | None = None, progress: Optional[Callable[[int, int], None]] = None) -> xr.Dataset:
+              plane: str | None = None, progress: Optional[Callable[[int, int], None]] = None,
+              accuracy: str | None = None) -> xr.Dataset:
     """The SAL processor of :func:`focus` (raw dechirped data and phase histories): range
     compression, then the registered former :func:`get_former` names. Parameters as :func:`focus`.
 
@@ -154,7 +160,7 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
 
     Parameters
     ----------
-    raw, processing, scenario, algorithm, grid, window_name, plane, progress
+    raw, processing, scenario, algorithm, grid, window_name, plane, progress, accuracy
         As :func:`focus`.
     """
     if scenario is None:
@@ -184,11 +190,14 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
         raise ScenarioError("processing.grid", f"dx={g.dx:g}, dy={g.dy:g}",
                             f"spacing must not exceed the resolution (azimuth {res['azimuth']:.4g} m, "
                             f"range {res['range']:.4g} m)")
-    result = former(ph, ig, win, upsample=p.range_upsample, progress=progress)
+    acc = accuracy or p.accuracy
+    check_choice("processing.accuracy", acc, ACCURACY)
+    upsample = p.range_upsample if acc == "standard" else max(p.range_upsample, HIGH_ACCURACY_UPSAMPLE)
+    result = former(ph, ig, win, upsample=upsample, accuracy=acc, progress=progress)
     M = ph.freq.size
     wi = window_ipr(win.name, win.nbar, win.sll)
     attrs = {
-        "algorithm": alg, "window": win.name, "plane": g.plane,
+        "algorithm": alg, "accuracy": acc, "range_upsample": upsample, "window": win.name, "plane": g.plane,
         "wavelength": ph.wavelength, "carrier_frequency": float(ph.freq[M // 2]),
         "bandwidth": res["bandwidth"], "mode": ph.mode,
         "resolution_range": res["range"], "resolution_azimuth": res["azimuth"],

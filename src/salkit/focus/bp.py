@@ -19,7 +19,7 @@ from ..tolerances import BP_UPSAMPLE
 
 @register_former("bp")
 def form_bp(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = BP_UPSAMPLE,
-            progress=None) -> ImageResult:
+            accuracy: str = "standard", progress=None) -> ImageResult:
     """Backprojection image (the registered ``bp`` former).
 
     Parameters
@@ -30,6 +30,8 @@ def form_bp(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int 
         Over the pulses (spotlight) or the Doppler band (stripmap), and in range.
     upsample : int
         Range-profile upsampling before nearest-sample lookup.
+    accuracy : {"standard", "high"}
+        Not used: ``bp`` takes its accuracy from ``upsample`` (the caller passes 32 for "high").
     progress : callable, optional
         ``progress(done, total)`` in pulses.
 

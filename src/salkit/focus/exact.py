@@ -178,7 +178,7 @@ def exact_image(data: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_r
 
 @register_former("exact")
 def form_exact(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = BP_UPSAMPLE,
-               progress=None) -> ImageResult:
+               accuracy: str = "standard", progress=None) -> ImageResult:
     """The exact float64 matched filter (the registered ``exact`` former), normalised as ``bp``.
 
     Parameters
@@ -190,6 +190,8 @@ def form_exact(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: i
         Over the pulses and the frequencies.
     upsample : int
         Not used (nothing is interpolated).
+    accuracy : {"standard", "high"}
+        Not used (exact).
     progress : callable, optional
         ``progress(done, total)`` in pulses (called once, at the end).
 

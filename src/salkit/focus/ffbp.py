@@ -16,17 +16,25 @@ plane is found from (r, u) in closed form, so the antenna may follow any traject
 grids of each level are sized from the image's extent as seen from each sub-aperture centre.
 
 Interpolation: least-squares optimal kernels (``interpolation_table``) designed for each grid's
-oversampling: 8 taps in angle, 6 in range, 8 on the pulses' range profiles. The profiles are
+oversampling: 8 taps in angle, 8 in range, 8 on the pulses' range profiles. The profiles are
 sampled at the polar grids' range spacing, so every step is a range pass along lines that move
 one source bin per point. Each merge interpolates separably: the parent's line of points crosses
 the child's range bins in order, so the child is first cut along the line in angle at its own
-range bins, then the cut is interpolated in range (14 taps instead of 48); the last step does the
+range bins, then the cut is interpolated in range (16 taps instead of 64); the last step does the
 same along the image's rows. Both passes run in segments where the interpolation fraction moves
 little and linearly, with weights linear along the segment, over contiguous floats (SIMD).
 
+Precision: sub-images are at baseband about |x - c| - rho_c, rho_c = |c - o| (o the scene
+centre), and every phase is formed from small differences (|x - a| - |x - b| =
+(b - a).(2 (x - b) + (b - a)) / (|x - a| + |x - b|)), never from two ranges of hundreds of
+kilometres each rounded to 6e-11 m. Each polar grid keeps :data:`MARGIN_ANGLE` and
+:data:`MARGIN_RANGE` samples outside the image, enough for the next level's taps.
+
 Accuracy knobs: ``oversample_angle`` and ``oversample_range`` (samples per Nyquist interval of
-the polar grids) and ``leaf`` (pulses backprojected directly into each first-level sub-image).
-docs/performance.md gives the accuracy-speed curve.
+the polar grids), ``range_taps`` and ``leaf`` (pulses backprojected directly into each
+first-level sub-image). Defaults (1.75, 2.0, 8, 16): -58 to -61 dB image error against the exact
+matched filter on the test geometries (:mod:`salkit.simulate.testbeds`); :data:`ACCURATE`
+(2.5, 2.5): -63 to -74 dB. docs/performance.md gives the accuracy-speed curve.
 """
 from __future__ import annotations
 
@@ -35,6 +43,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from ..choices import ACCURACY, check_choice
 from ..constants import SPEED_OF_LIGHT
 from ..errors import ScenarioError
 from ..signals.windows import Window
@@ -43,17 +52,26 @@ from .formers import ImageGrid, ImageResult, register_former
 from .phasehistory import PhaseHistory
 from ..tolerances import BP_UPSAMPLE
 
-#: Default accuracy settings (image error about -44 dB against direct backprojection).
+#: Default accuracy settings (image error -58 to -61 dB against the exact matched filter).
 LEAF_PULSES = 16
 #: Sub-images merged into each parent (4: fewer levels than 2, the same accuracy; the last merge is by 2).
 MERGE_FACTOR = 4
 OVERSAMPLE_ANGLE = 1.75
-OVERSAMPLE_RANGE = 1.75
+OVERSAMPLE_RANGE = 2.0
 #: Taps of the angular interpolation (the range one has 6).
 ANGLE_TAPS = 8
+#: Taps of the merges' range interpolation.
+RANGE_TAPS = 8
+#: The accuracy setting (``processing.ffbp_accuracy = "high"``): -63 to -74 dB against the exact
+#: matched filter, about 1.3x the default's time.
+ACCURATE = {"oversample_angle": 2.5, "oversample_range": 2.5}
 #: Taps of the leaves' range interpolation of the pulses' profiles.
 LEAF_TAPS = 8
-MARGIN = 4  # samples kept outside the image's extent on each side of a polar grid
+#: Samples kept outside the image's extent on each side of a polar grid, in angle and in range:
+#: enough that the next level's interpolation of its own margin finds every tap (4 were too few
+#: for 8 taps: the image's edges lost 10 to 15 dB).
+MARGIN_ANGLE = 5
+MARGIN_RANGE = 6
 
 
 #: Fractional positions tabulated per interpolation kernel (nearest entry: a position error of
@@ -156,19 +174,31 @@ def _polar_line(o, ea, er, cen, r0, dr, n, u):
 
 
 @njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
-def _leaf_line(prof, rp0, inv_drp, pos, ref, weight, first, count, X0, X1, X2, r_line, cyc_per_m, tr,
+def _leaf_line(prof, rp0, inv_drp, pos, ref, qrel, weight, first, count, cen, X0, X1, X2, r_line, cyc_per_m, tr,
                acc2, fr_b, sn_b, cs_b, t2):
     """Backproject a leaf's pulses onto one polar line of points (baseband): per pulse, the
     profile bin position and phase of every point (SIMD), then the range pass (the profiles are
-    sampled at the polar grids' range spacing, so the line moves one profile bin per point)."""
+    sampled at the polar grids' range spacing, so the line moves one profile bin per point).
+
+    The phase k ((R - |X - c|) - (R_ref - rho)) is formed from small differences only:
+    R - |X - c| = (2 q.(X - c) + |q|^2) / (R + |X - c|), q = c - p (``qrel`` holds q, |q|^2 and
+    R_ref - rho per pulse), so it stays exact at 560 km where R and |X - c| alone carry 6e-11 m
+    of rounding (5e-4 rad at 1.55 um)."""
     n = X0.shape[0]
     nb = prof.shape[1] // 2
+    E0 = X0 - cen[0]
+    E1 = X1 - cen[1]
+    E2 = X2 - cen[2]
     for p in range(first, first + count):
         px = pos[p, 0]
         py = pos[p, 1]
         pz = pos[p, 2]
         rp = ref[p] + rp0
-        rf = ref[p]
+        q0 = 2.0 * qrel[p, 0]
+        q1 = 2.0 * qrel[p, 1]
+        q2 = 2.0 * qrel[p, 2]
+        qq = qrel[p, 3]
+        rf = qrel[p, 4]
         wp = weight[p]
         for k in range(n):
             e0 = X0[k] - px
@@ -176,7 +206,8 @@ def _leaf_line(prof, rp0, inv_drp, pos, ref, weight, first, count, X0, X1, X2, r
             e2 = X2[k] - pz
             R = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
             fr_b[k] = (R - rp) * inv_drp
-            cyc = (R - r_line[k] - rf) * cyc_per_m
+            dif = (q0 * E0[k] + q1 * E1[k] + q2 * E2[k] + qq) / (R + r_line[k])
+            cyc = (dif - rf) * cyc_per_m
             y = np.float32(cyc - np.floor(cyc + 0.5))
             sn, cs = _sincos_cycles(y)
             sn_b[k] = sn * wp
@@ -185,7 +216,7 @@ def _leaf_line(prof, rp0, inv_drp, pos, ref, weight, first, count, X0, X1, X2, r
 
 
 @njit(parallel=True, cache=True, fastmath=True, error_model="numpy")
-def _leaf_kernel(prof, rp0, inv_drp, pos, ref, weight, first, count, cen, o, ea, er,
+def _leaf_kernel(prof, rp0, inv_drp, pos, ref, qrel, weight, first, count, cen, o, ea, er,
                  u0, du, nu, r0, dr, nr, cyc_per_m, tr, out):
     """Backproject each leaf's pulses onto its polar grid, at baseband (``LEAF_TAPS``-tap
     least-squares interpolation of range profiles sampled at the grid's range spacing)."""
@@ -203,7 +234,7 @@ def _leaf_kernel(prof, rp0, inv_drp, pos, ref, weight, first, count, cen, o, ea,
             continue
         m = top + 1 - lo
         acc2 = np.zeros(2 * m, np.float32)
-        _leaf_line(prof, rp0, inv_drp, pos, ref, weight, first[s], count[s], X0[lo:top + 1], X1[lo:top + 1],
+        _leaf_line(prof, rp0, inv_drp, pos, ref, qrel, weight, first[s], count[s], cen[s], X0[lo:top + 1], X1[lo:top + 1],
                    X2[lo:top + 1], rl[lo:top + 1], cyc_per_m, tr, acc2, np.empty(m), np.empty(m, np.float32),
                    np.empty(m, np.float32), np.empty(2 * m, np.float32))
         seg = out[s, iu, lo:top + 1]
@@ -321,8 +352,8 @@ def _range_pass(fr_b, n, h2, j_lo, j_hi, span, tr, sn_b, cs_b, acc2, t2):
 
 
 @njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
-def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, cx, cy, cz, dr_child, ea0, ea1, ea2, X0, X1, X2, r_line,
-                      cyc_per_m, tu, tr, acc2, fr_b, v_b, sn_b, cs_b, h2, t2):
+def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, cx, cy, cz, dr_child, ea0, ea1, ea2, X0, X1, X2, E0, E1, E2,
+                      r_line, extra, q0, q1, q2, qq, drho, cyc_per_m, tu, tr, acc2, fr_b, v_b, sn_b, cs_b, h2, t2):
     """Add child ``c`` (baseband, interpolated, phase restored) along one parent line of points.
 
     ``Gf`` holds the children's grids as float32, (re, im) interleaved along range; ``acc2`` the
@@ -347,7 +378,9 @@ def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, cx, cy, cz, dr_child, ea0,
         rc = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
         fr_b[k] = (rc - r0c) * inv_dr
         v_b[k] = ((e0 * ea0 + e1 * ea1 + e2 * ea2) / rc - u0c) * inv_du
-        cyc = (rc - r_line[k]) * cyc_per_m
+        # k ((|X - c_child| - rho_child) - (|X - c_line| - rho_line) + extra), from small differences
+        dif = (q0 * E0[k] + q1 * E1[k] + q2 * E2[k] + qq) / (rc + r_line[k])
+        cyc = (dif - drho + extra[k]) * cyc_per_m
         y = np.float32(cyc - np.floor(cyc + 0.5))
         sn, cs = _sincos_cycles(y)
         sn_b[k] = sn
@@ -355,8 +388,9 @@ def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, cx, cy, cz, dr_child, ea0,
     if n < 2:
         return
     # pass 2: the child cut along the line, on the child's range bins j_lo .. j_hi, into h2
-    j_lo = max(int(math.floor(fr_b[0])) - 2, 0)
-    j_hi = min(int(math.floor(fr_b[n - 1])) + 3, nrc - 1)
+    hb = tr.shape[1] // 2 - 1
+    j_lo = max(int(math.floor(fr_b[0])) - hb, 0)
+    j_hi = min(int(math.floor(fr_b[n - 1])) + tr.shape[1] - hb - 1, nrc - 1)
     if j_hi < j_lo:
         return
     ha = ANGLE_TAPS // 2 - 1
@@ -402,11 +436,18 @@ def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, cx, cy, cz, dr_child, ea0,
 
 
 @njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
-def _line_from_children(Gf, c0, c1, cu0, cdu, cnu, cr0, cnr, ccen, dr_child, ea, X0, X1, X2, r_line, cyc_per_m,
-                        tu, tr, orow):
+def _line_from_children(Gf, c0, c1, cu0, cdu, cnu, cr0, cnr, ccen, crho, lcen, lrho, dr_child, ea, X0, X1, X2,
+                        r_line, extra, cyc_per_m, tu, tr, orow):
     """Children c0 .. c1 - 1 summed along one line of points (a parent's polar line or an image
-    row) into ``orow``, each interpolated and its phase k (r_c - r_line) restored."""
+    row) into ``orow``, each interpolated and moved from its baseband to the line's:
+    exp(j k ((|X - c_child| - rho_child) - (|X - c_line| - rho_line) + extra)), ``r_line`` =
+    |X - c_line|, ``extra`` 0 for a parent and |X - o| for the image (baseband about the origin
+    with rho 0, then undone). The range differences are formed from small ones:
+    |X - a|^2 - |X - b|^2 = (b - a).(2 (X - b) + (b - a))."""
     m = X0.shape[0]
+    E0 = X0 - lcen[0]
+    E1 = X1 - lcen[1]
+    E2 = X2 - lcen[2]
     acc2 = np.zeros(2 * m, np.float32)
     fr_b = np.empty(m)
     v_b = np.empty(m)
@@ -415,16 +456,20 @@ def _line_from_children(Gf, c0, c1, cu0, cdu, cnu, cr0, cnr, ccen, dr_child, ea,
     h2 = np.empty(Gf.shape[2], np.float32)
     t2 = np.empty(2 * m, np.float32)
     for c in range(c0, c1):
+        q0 = lcen[0] - ccen[c, 0]
+        q1 = lcen[1] - ccen[c, 1]
+        q2 = lcen[2] - ccen[c, 2]
         _accumulate_child(Gf, c, cu0[c], cdu[c], cnu[c], cr0[c], cnr[c], ccen[c, 0], ccen[c, 1], ccen[c, 2], dr_child,
-                          ea[0], ea[1], ea[2], X0, X1, X2, r_line, cyc_per_m, tu, tr, acc2, fr_b, v_b, sn_b, cs_b,
-                          h2, t2)
+                          ea[0], ea[1], ea[2], X0, X1, X2, E0, E1, E2, r_line, extra, 2.0 * q0, 2.0 * q1, 2.0 * q2,
+                          q0 * q0 + q1 * q1 + q2 * q2, crho[c] - lrho, cyc_per_m, tu, tr, acc2, fr_b, v_b, sn_b,
+                          cs_b, h2, t2)
     for k in range(m):
         orow[k] = complex(acc2[2 * k], acc2[2 * k + 1])
 
 
 @njit(parallel=True, cache=True, fastmath=True, error_model="numpy")
-def _merge_kernel(Gf, cu0, cdu, cnu, cr0, cnr, ccen, dr_child, factor, o, ea, er, cen, u0, du, nu, r0, dr, nr,
-                  cyc_per_m, tu, tr, out):
+def _merge_kernel(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, dr_child, factor, o, ea, er, cen, rho, u0, du, nu, r0, dr,
+                  nr, cyc_per_m, tu, tr, out):
     """Merge ``factor`` consecutive child sub-images into each parent's polar grid."""
     S, NU, NR = out.shape
     n_child = Gf.shape[0]
@@ -439,19 +484,21 @@ def _merge_kernel(Gf, cu0, cdu, cnu, cr0, cnr, ccen, dr_child, factor, o, ea, er
         X0, X1, X2, rl, lo, top = _polar_line(o, ea, er, cen[s], r0[s], dr, nr[s], u0[s] + iu * du[s])
         if top < lo:
             continue
-        _line_from_children(Gf, s * factor, min(s * factor + factor, n_child), cu0, cdu, cnu, cr0, cnr, ccen,
-                            dr_child, ea, X0[lo:top + 1], X1[lo:top + 1], X2[lo:top + 1], rl[lo:top + 1], cyc_per_m,
-                            tu, tr, out[s, iu, lo:top + 1])
+        _line_from_children(Gf, s * factor, min(s * factor + factor, n_child), cu0, cdu, cnu, cr0, cnr, ccen, crho,
+                            cen[s], rho[s], dr_child, ea, X0[lo:top + 1], X1[lo:top + 1], X2[lo:top + 1],
+                            rl[lo:top + 1], np.zeros(top + 1 - lo), cyc_per_m, tu, tr, out[s, iu, lo:top + 1])
 
 
 @njit(parallel=True, cache=True, fastmath=True, error_model="numpy")
-def _final_kernel(G, cu0, cdu, cnu, cr0, cnr, ccen, dr_child, o, ea, er, az, rg, cyc_per_m, tu, tr, out):
-    """Every remaining sub-image interpolated onto the output grid (6 x 6 table weights), its
-    phase k |x - c| restored."""
+def _final_kernel(G, cu0, cdu, cnu, cr0, cnr, ccen, crho, dr_child, o, ea, er, az, rg, cyc_per_m, tu, tr, out):
+    """Every remaining sub-image interpolated onto the output grid (table weights), its phase
+    k (|x - c| - rho_c) restored (from small differences, as the merges)."""
     nx, ny = out.shape
     T = tr.shape[0] - 1
     na = tu.shape[1]
     ha = na // 2 - 1
+    nr_taps = tr.shape[1]
+    hr = nr_taps // 2 - 1
     for i in prange(nx):
         for j in range(ny):
             x0 = o[0] + az[i] * ea[0] + rg[j] * er[0]
@@ -468,7 +515,7 @@ def _final_kernel(G, cu0, cdu, cnu, cr0, cnr, ccen, dr_child, o, ea, er, az, rg,
                 fr = (rc - cr0[c]) / dr_child
                 iu = int(math.floor(fu))
                 ir = int(math.floor(fr))
-                if iu < ha or ir < 2 or iu + na - ha > cnu[c] or ir + 3 >= cnr[c]:
+                if iu < ha or ir < hr or iu + na - ha > cnu[c] or ir + nr_taps - hr > cnr[c]:
                     continue
                 wu = tu[int((fu - iu) * T + 0.5)]
                 wr = tr[int((fr - ir) * T + 0.5)]
@@ -477,31 +524,40 @@ def _final_kernel(G, cu0, cdu, cnu, cr0, cnr, ccen, dr_child, o, ea, er, az, rg,
                 for a in range(na):
                     rr = np.float32(0.0)
                     ri = np.float32(0.0)
-                    for b in range(6):
-                        z = G[c, iu - ha + a, ir - 2 + b]
+                    for b in range(nr_taps):
+                        z = G[c, iu - ha + a, ir - hr + b]
                         rr += wr[b] * z.real
                         ri += wr[b] * z.imag
                     vr += wu[a] * rr
                     vi += wu[a] * ri
-                vr, vi = _rotate(vr, vi, rc * cyc_per_m)
+                g0 = x0 - o[0]
+                g1 = x1 - o[1]
+                g2 = x2 - o[2]
+                a0 = o[0] - ccen[c, 0]
+                a1 = o[1] - ccen[c, 1]
+                a2 = o[2] - ccen[c, 2]
+                ra = math.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
+                num = g0 * (g0 + 2.0 * a0) + g1 * (g1 + 2.0 * a1) + g2 * (g2 + 2.0 * a2)
+                vr, vi = _rotate(vr, vi, (num / (rc + ra) + (ra - crho[c])) * cyc_per_m)
                 acc_r += vr
                 acc_i += vi
             out[i, j] = complex(acc_r, acc_i)
 
 
 @njit(parallel=True, cache=True, fastmath=True, error_model="numpy")
-def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, dr_child, o, ea, er, az, rg, cyc_per_m, tu, tr, out):
+def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, dr_child, o, ea, er, az, rg, cyc_per_m, tu, tr, out):
     """Every remaining sub-image interpolated onto the output grid row by row, separably (as a
     merge: a row along the range axis crosses each child's range bins in order when every child
     centre lies on the near side of the image, which the caller checks), its phase k |x - c|
-    restored."""
+    restored (the line's baseband about the origin o with rho 0, undone by ``extra`` = |x - o|)."""
     nx, ny = out.shape
     for i in prange(nx):
         X0 = o[0] + az[i] * ea[0] + rg * er[0]
         X1 = o[1] + az[i] * ea[1] + rg * er[1]
         X2 = o[2] + az[i] * ea[2] + rg * er[2]
-        _line_from_children(Gf, 0, Gf.shape[0], cu0, cdu, cnu, cr0, cnr, ccen, dr_child, ea, X0, X1, X2,
-                            np.zeros(ny), cyc_per_m, tu, tr, out[i])
+        d = np.sqrt(az[i] * az[i] + rg * rg)
+        _line_from_children(Gf, 0, Gf.shape[0], cu0, cdu, cnu, cr0, cnr, ccen, crho, o, 0.0, dr_child, ea, X0, X1, X2,
+                            d, d, cyc_per_m, tu, tr, out[i])
 
 
 def _rows_in_order(o: np.ndarray, er: np.ndarray, centres: np.ndarray, rg: np.ndarray) -> bool:
@@ -547,11 +603,11 @@ def _polar_grids(centres: np.ndarray, lengths: np.ndarray, grid: ImageGrid, wave
         rmin = min(float(np.linalg.norm(o + ca * ea + cg * er - centres[s])), float(R.min()))
         du[s] = wavelength / (2.0 * max(lengths[s], 1e-9) * oversample_angle)
         lo, hi = float(U.min()), float(U.max())
-        n_u = int(math.ceil((hi - lo) / du[s])) + 1 + 2 * MARGIN
-        u0[s] = lo - MARGIN * du[s]
+        n_u = int(math.ceil((hi - lo) / du[s])) + 1 + 2 * MARGIN_ANGLE
+        u0[s] = lo - MARGIN_ANGLE * du[s]
         nu[s] = n_u
-        r0[s] = rmin - MARGIN * dr
-        nr[s] = int(math.ceil((float(R.max()) - rmin) / dr)) + 1 + 2 * MARGIN
+        r0[s] = rmin - MARGIN_RANGE * dr
+        nr[s] = int(math.ceil((float(R.max()) - rmin) / dr)) + 1 + 2 * MARGIN_RANGE
     return u0, du, nu, r0, nr
 
 
@@ -570,7 +626,7 @@ def _lengths(positions: np.ndarray, groups: list, centres: np.ndarray, ea: np.nd
 def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.ndarray, grid: ImageGrid,
          azimuth_window: np.ndarray, range_window: np.ndarray, leaf: int = LEAF_PULSES, factor: int = MERGE_FACTOR,
          oversample_angle: float = OVERSAMPLE_ANGLE, oversample_range: float = OVERSAMPLE_RANGE,
-         progress=None) -> tuple[np.ndarray, dict]:
+         range_taps: int = RANGE_TAPS, progress=None) -> tuple[np.ndarray, dict]:
     """Fast factorised backprojection onto ``grid``, unnormalised (as direct backprojection).
 
     Parameters
@@ -594,6 +650,8 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     oversample_angle, oversample_range : float
         Polar-grid samples per Nyquist interval (the range profiles are sampled at the grids'
         range spacing, ``oversample_range`` or a little more: an FFT length).
+    range_taps : int
+        Taps of the merges' range interpolation (even).
     progress : callable, optional
         ``progress(done, total)`` in levels.
 
@@ -616,7 +674,7 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     er = np.ascontiguousarray(plane.range, np.float64)
     step = float(np.median(np.linalg.norm(np.diff(positions, axis=0), axis=1))) if P > 1 else 0.0
     tu = interpolation_table(ANGLE_TAPS, oversample_angle)
-    tr = interpolation_table(6, prof.shape[1] / M)
+    tr = interpolation_table(range_taps, prof.shape[1] / M)
     tl = interpolation_table(LEAF_TAPS, prof.shape[1] / M)
     w = np.asarray(azimuth_window, np.float32)
     # level 0: leaves of `leaf` pulses
@@ -643,8 +701,12 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     G = grid_buffer(0, (len(groups), int(nu.max()), int(nr.max())))
     first = np.array([a for a, _ in groups], np.int64)
     count = np.array([b - a for a, b in groups], np.int64)
-    _leaf_kernel(prof.view(np.float32), rp0, 1.0 / dr, positions, ref_range, w, first, count, centres, o, ea, er,
-                 u0, du, nu, r0, dr, nr, cyc_per_m, tl, G)
+    rho = np.linalg.norm(centres - o, axis=1)
+    leaf_of = np.repeat(np.arange(len(groups)), count)
+    q = centres[leaf_of] - positions
+    qrel = np.ascontiguousarray(np.column_stack([q, np.einsum("ij,ij->i", q, q), ref_range - rho[leaf_of]]))
+    _leaf_kernel(prof.view(np.float32), rp0, 1.0 / dr, positions, ref_range, qrel, w, first, count, centres, o, ea,
+                 er, u0, du, nu, r0, dr, nr, cyc_per_m, tl, G)
     samples = [int((nu * nr).sum())]
     done += 1
     if progress:
@@ -661,9 +723,10 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
         plen = _lengths(positions, spans, pcen, ea, step)
         pu0, pdu, pnu, pr0, pnr = _polar_grids(pcen, plen, grid, lam_min, dr, oversample_angle)
         out = grid_buffer(done, (len(parents), int(pnu.max()), int(pnr.max())))
-        _merge_kernel(G.view(np.float32), u0, du, nu, r0, nr, centres, dr, f_level, o, ea, er, pcen, pu0, pdu, pnu,
-                      pr0, dr, pnr, cyc_per_m, tu, tr, out)
-        G, centres, weights = out, pcen, pw
+        prho = np.linalg.norm(pcen - o, axis=1)
+        _merge_kernel(G.view(np.float32), u0, du, nu, r0, nr, centres, rho, dr, f_level, o, ea, er, pcen, prho, pu0,
+                      pdu, pnu, pr0, dr, pnr, cyc_per_m, tu, tr, out)
+        G, centres, weights, rho = out, pcen, pw, prho
         u0, du, nu, r0, nr = pu0, pdu, pnu, pr0, pnr
         samples.append(int((nu * nr).sum()))
         done += 1
@@ -672,9 +735,10 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     img = np.zeros((grid.azimuth.size, grid.range.size), np.complex64)
     az, rg = np.asarray(grid.azimuth, np.float64), np.asarray(grid.range, np.float64)
     if _rows_in_order(o, er, centres, rg):
-        _final_rows(G.view(np.float32), u0, du, nu, r0, nr, centres, dr, o, ea, er, az, rg, cyc_per_m, tu, tr, img)
+        _final_rows(G.view(np.float32), u0, du, nu, r0, nr, centres, rho, dr, o, ea, er, az, rg, cyc_per_m, tu, tr,
+                    img)
     else:
-        _final_kernel(G, u0, du, nu, r0, nr, centres, dr, o, ea, er, az, rg, cyc_per_m, tu, tr, img)
+        _final_kernel(G, u0, du, nu, r0, nr, centres, rho, dr, o, ea, er, az, rg, cyc_per_m, tu, tr, img)
     done += 1
     if progress:
         progress(done, done)
@@ -683,7 +747,7 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
 
 @register_former("ffbp")
 def form_ffbp(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = BP_UPSAMPLE,
-              progress=None) -> ImageResult:
+              accuracy: str = "standard", progress=None) -> ImageResult:
     """Fast factorised backprojection (the registered ``ffbp`` former), normalised as ``bp``.
 
     Parameters
@@ -696,6 +760,8 @@ def form_ffbp(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: in
     upsample : int
         Not used (the shared calling convention of the formers): the leaves read range profiles
         sampled at the polar grids' range spacing through an 8-tap least-squares kernel.
+    accuracy : {"standard", "high"}
+        "standard" (the module defaults) or "high" (:data:`ACCURATE`).
     progress : callable, optional
         ``progress(done, total)`` in levels.
 
@@ -714,7 +780,9 @@ def form_ffbp(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: in
     P, M = ph.data.shape
     wa = window(P)
     wr = window(M)
-    img, info = ffbp(ph.data, ph.freq, ph.positions, ph.reference_range, grid, wa, wr, progress=progress)
+    check_choice("processing.accuracy", accuracy, ACCURACY)
+    knobs = ACCURATE if accuracy == "high" else {}
+    img, info = ffbp(ph.data, ph.freq, ph.positions, ph.reference_range, grid, wa, wr, progress=progress, **knobs)
     norm = max(float(wa.sum()), 1e-30) * float(wr.sum())
     info.update({"support_azimuth": P, "support_range": M})
     return ImageResult((img / norm).astype(np.complex64), info)

@@ -3,7 +3,7 @@
 Every former is a function
 
     form(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = BP_UPSAMPLE,
-         progress=None) -> ImageResult
+        accuracy: str = "standard", progress=None) -> ImageResult
 
 whose image is normalised so that a unit-reflectance point at the beam centre peaks near 1
 (the window's coherent gain divided out). A new algorithm is one file in ``salkit/focus`` with
@@ -88,7 +88,7 @@ class Former(Protocol):
     """The signature every image former has."""
 
     def __call__(self, ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = BP_UPSAMPLE,
-                 progress: Optional[Callable[[int, int], None]] = None) -> ImageResult: ...
+                 accuracy: str = "standard", progress: Optional[Callable[[int, int], None]] = None) -> ImageResult: ...
 
 
 #: name -> former, filled by :func:`register_former`.

@@ -122,7 +122,7 @@ def omegak(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: n
 
 @register_former("omegak")
 def form_omegak(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = BP_UPSAMPLE,
-                progress=None) -> ImageResult:
+                accuracy: str = "standard", progress=None) -> ImageResult:
     """Omega-k image of a stripmap collection on a straight track (the registered ``omegak``
     former).
 
@@ -135,6 +135,8 @@ def form_omegak(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: 
         Applied over the processed Doppler band and in range.
     upsample : int
         Unused.
+    accuracy : {"standard", "high"}
+        Not used.
     progress : callable, optional
         ``progress(done, total)``, called once at the end.
 

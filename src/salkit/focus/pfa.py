@@ -301,7 +301,7 @@ def pfa_on_grid(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_ran
 
 @register_former("pfa")
 def form_pfa(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = BP_UPSAMPLE,
-             progress=None) -> ImageResult:
+             accuracy: str = "standard", progress=None) -> ImageResult:
     """Polar format image of a spotlight collection (the registered ``pfa`` former).
 
     Parameters
@@ -313,6 +313,8 @@ def form_pfa(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int
         Applied in azimuth and range.
     upsample : int
         Unused (PFA interpolates with 8-tap kernels).
+    accuracy : {"standard", "high"}
+        Not used.
     progress : callable, optional
         ``progress(done, total)``, called once at the end.
 
