@@ -1,7 +1,8 @@
 """The truth former: the exact float64 matched filter, the reference every approximation is judged
 against.
 
-For every pixel x and pulse n, with dR = |x - p_n| - R_ref,n in float64,
+For every pixel x and pulse n, with dR = |x - p_n| - R_ref,n formed from small quantities
+(:mod:`salkit.geometry.ranges`: exact at 560 km, where two float64 ranges differenced are not),
 
     I(x) = sum_n w_n sum_m v_m s(n, m) exp(+j 4 pi f_m dR / c) / (sum w)(sum v),
 
@@ -22,6 +23,7 @@ from numba import njit, prange
 
 from ..constants import SPEED_OF_LIGHT
 from ..errors import ScenarioError
+from ..geometry.ranges import differential_range, range_offsets
 from ..signals.windows import Window
 from .formers import ImageGrid, ImageResult, register_former
 from .phasehistory import PhaseHistory
@@ -36,7 +38,7 @@ RATE_PER_CORE = 1.5e9
 
 
 @njit(parallel=True, cache=True, fastmath=False, error_model="numpy")
-def _exact_kernel(s_re, s_im, f0, df, pos, ref, wa, row_origin, rdir, rg, out_re, out_im):
+def _exact_kernel(s_re, s_im, f0, df, pos, ref, D, wa, row_origin, rdir, rg, out_re, out_im):
     nx = row_origin.shape[0]
     ny = rg.shape[0]
     P, M = s_re.shape
@@ -55,10 +57,9 @@ def _exact_kernel(s_re, s_im, f0, df, pos, ref, wa, row_origin, rdir, rg, out_re
             if w == 0.0:
                 continue
             for j in range(ny):
-                d0 = row_origin[i, 0] + rg[j] * rdir[0] - pos[n, 0]
-                d1 = row_origin[i, 1] + rg[j] * rdir[1] - pos[n, 1]
-                d2 = row_origin[i, 2] + rg[j] * rdir[2] - pos[n, 2]
-                dR = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) - ref[n]
+                dR = differential_range(row_origin[i, 0] + rg[j] * rdir[0], row_origin[i, 1] + rg[j] * rdir[1],
+                                        row_origin[i, 2] + rg[j] * rdir[2], pos[n, 0], pos[n, 1], pos[n, 2], ref[n],
+                                        D[n])
                 a = k0 * df * dR
                 zr[j] = math.cos(a)
                 zi[j] = math.sin(a)
@@ -169,7 +170,8 @@ def exact_image(data: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_r
     out_re = np.empty((nx, ny))
     out_im = np.empty((nx, ny))
     _exact_kernel(np.ascontiguousarray(s.real), np.ascontiguousarray(s.imag), float(f[0]), float(f[1] - f[0]),
-                  np.ascontiguousarray(positions, np.float64), np.ascontiguousarray(ref_range, np.float64), wa,
+                  np.ascontiguousarray(positions, np.float64), np.ascontiguousarray(ref_range, np.float64),
+                  range_offsets(positions, ref_range), wa,
                   np.ascontiguousarray(row_origin, np.float64), np.ascontiguousarray(rdir, np.float64),
                   np.ascontiguousarray(rg, np.float64), out_re, out_im)
     norm = max(float(wa.sum()), 1e-300) * float(wr.sum())

@@ -6,7 +6,8 @@ is
     s(n, m) = sum_k a_k exp(-j 4 pi f_m (|x_k - p_n| - R_ref,n) / c),
 
 salkit's convention (``phase_sign = -1``, docs/data-format.md). No beam, no waveform, no
-interpolation: ranges in float64, the phase of each frequency from a float64 recurrence
+interpolation: differential ranges from small quantities (:mod:`salkit.geometry.ranges`, exact
+at 560 km), the phase of each frequency from a float64 recurrence
 re-anchored every :data:`ANCHOR` samples (drift below 1e-12 rad). It is the input of the accuracy
 tests and benchmarks of the image formers (:mod:`salkit.geometry.testbeds` gives the geometries),
 whose truth is :func:`salkit.focus.exact_image`.
@@ -21,13 +22,14 @@ from numba import njit, prange
 
 from ..constants import SPEED_OF_LIGHT
 from ..errors import ScenarioError
+from ..geometry.ranges import differential_range, range_offsets
 
 #: Frequency samples between exact re-evaluations of the phase in the recurrence.
 ANCHOR = 64
 
 
 @njit(parallel=True, cache=True, error_model="numpy")
-def _phase_history_kernel(pos, ref, f0, df, M, pts, amp_re, amp_im, out_re, out_im):
+def _phase_history_kernel(pos, ref, D, f0, df, M, pts, amp_re, amp_im, out_re, out_im):
     P = pos.shape[0]
     K = pts.shape[0]
     four_pi_over_c = 4.0 * math.pi / 299792458.0
@@ -35,10 +37,7 @@ def _phase_history_kernel(pos, ref, f0, df, M, pts, amp_re, amp_im, out_re, out_
         acc_r = np.zeros(M)
         acc_i = np.zeros(M)
         for k in range(K):
-            d0 = pts[k, 0] - pos[n, 0]
-            d1 = pts[k, 1] - pos[n, 1]
-            d2 = pts[k, 2] - pos[n, 2]
-            dR = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) - ref[n]
+            dR = differential_range(pts[k, 0], pts[k, 1], pts[k, 2], pos[n, 0], pos[n, 1], pos[n, 2], ref[n], D[n])
             zr = math.cos(four_pi_over_c * df * dR)
             zi = -math.sin(four_pi_over_c * df * dR)
             ar = amp_re[k]
@@ -115,7 +114,7 @@ def analytic_phase_history(positions: np.ndarray, reference_range: np.ndarray, f
     P, M = pos.shape[0], f.size
     out_re = np.empty((P, M))
     out_im = np.empty((P, M))
-    _phase_history_kernel(pos, ref, float(f[0]), df, M, pts, np.ascontiguousarray(a.real),
+    _phase_history_kernel(pos, ref, range_offsets(pos, ref), float(f[0]), df, M, pts, np.ascontiguousarray(a.real),
                           np.ascontiguousarray(a.imag), out_re, out_im)
     return out_re + 1j * out_im
 

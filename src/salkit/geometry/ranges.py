@@ -1,0 +1,78 @@
+"""Differential ranges |x - p| - R_ref without the rounding of two long ranges.
+
+At 560 km a range in float64 carries up to 6e-11 m of rounding (half an ulp of 5.6e5), 5e-4 rad
+of two-way phase at 1.55 um; |x - p| - R_ref formed from two such numbers is off by that much,
+independently for every pixel and pulse, which leaves a floor near -70 dB on a speckled scene.
+Here the difference is formed from small quantities only:
+
+    |x - p| - R_ref = (D + x.(x - 2 p)) / (|x - p| + R_ref),   D = |p|^2 - R_ref^2,
+
+with x the pixel relative to the scene centre (small), p the antenna (large) and D computed
+exactly (rational arithmetic) once per pulse. The denominator needs no precision.
+"""
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+import numpy as np
+from numba import njit
+
+
+def range_offsets(positions: np.ndarray, reference_range: np.ndarray) -> np.ndarray:
+    """D = |p|^2 - R_ref^2 per pulse, exact to the last bit of its float64 result, m^2.
+
+    Parameters
+    ----------
+    positions : float64 (P, 3)
+        Antenna positions relative to the scene centre, m.
+    reference_range : float64 (P,)
+        m.
+
+    Returns
+    -------
+    float64 (P,)
+
+    Examples
+    --------
+    >>> range_offsets(np.array([[3.0, 4.0, 0.0]]), np.array([5.0])).tolist()
+    [0.0]
+    """
+    pos = np.asarray(positions, np.float64)
+    ref = np.asarray(reference_range, np.float64)
+    out = np.empty(ref.shape[0])
+    for i in range(ref.shape[0]):
+        x, y, z = (Fraction(float(v)) for v in pos[i])
+        r = Fraction(float(ref[i]))
+        out[i] = float(x * x + y * y + z * z - r * r)
+    return out
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def differential_range(x0, x1, x2, p0, p1, p2, ref, D):
+    """|x - p| - ref from small quantities (module docstring); x relative to the scene centre, m.
+
+    Parameters
+    ----------
+    x0, x1, x2 : float
+        Pixel or scatterer, m.
+    p0, p1, p2 : float
+        Antenna, m.
+    ref : float
+        Reference range, m.
+    D : float
+        |p|^2 - ref^2 (:func:`range_offsets`), m^2.
+
+    Returns
+    -------
+    float
+        m.
+    """
+    d0 = x0 - p0
+    d1 = x1 - p1
+    d2 = x2 - p2
+    R = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+    return (D + x0 * (x0 - 2.0 * p0) + x1 * (x1 - 2.0 * p1) + x2 * (x2 - 2.0 * p2)) / (R + ref)
+
+
+__all__ = ["differential_range", "range_offsets"]
