@@ -7,12 +7,15 @@ recoverable as well as a smooth one.
 """
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
 import xarray as xr
 
 from ..choices import PLANES, check_choice
+from ..constants import SPEED_OF_LIGHT
+from ..errors import ScenarioError
 from ..focus import PhaseHistory, default_grid, phase_history
 from ..focus.backprojection import pulse_contributions, range_profiles
 from ..geometry.collection import grid_axes, plane_from
@@ -22,6 +25,61 @@ from ..tolerances import BP_UPSAMPLE
 
 #: Largest contribution matrix (pulses x pixels) held in memory: 2**26 complex64 = 512 MiB.
 MAX_ENTRIES = 2 ** 26
+#: The sharpness is measured over the scene the data hold, up to this many times the output
+#: grid's extent on each axis (``support = "scene"``).
+SUPPORT_FACTOR = 3.0
+
+
+def unambiguous_extent(ph: PhaseHistory, plane) -> tuple[float, float]:
+    """Extent of the scene the collection samples without ambiguity, along the plane's azimuth
+    and range axes, m: lambda / (2 dtheta) for the mean angular step dtheta between pulses seen
+    from the scene centre, and c / (2 df) projected onto the plane's range axis.
+
+    Parameters
+    ----------
+    ph : PhaseHistory
+    plane : ImagePlane
+
+    Returns
+    -------
+    (float, float)
+        m.
+    """
+    u = ph.positions / np.linalg.norm(ph.positions, axis=1, keepdims=True)
+    dth = float(np.mean(np.arccos(np.clip(np.sum(u[1:] * u[:-1], axis=1), -1.0, 1.0)))) if u.shape[0] > 1 else 0.0
+    az = ph.wavelength / (2.0 * dth) if dth > 0 else np.inf
+    look = -ph.center_position / np.linalg.norm(ph.center_position)
+    cos_r = abs(float(look @ plane.range))
+    rg = SPEED_OF_LIGHT / (2.0 * float(ph.freq[1] - ph.freq[0])) / max(cos_r, 1e-3)
+    return az, rg
+
+
+def support_grid(ph: PhaseHistory, grid: Grid, factor: float = SUPPORT_FACTOR) -> Grid:
+    """The grid the per-pulse sharpness is measured on: ``grid`` widened, at its spacing and
+    centre, to the scene the data hold (:func:`unambiguous_extent`), at most ``factor`` times its
+    extent per axis and never narrower than it.
+
+    A per-pulse error moves the energy of the whole illuminated scene, not only of the output
+    grid: measured over the grid alone, a scene larger than the grid leaves the estimate with a
+    fraction of the information (on the wide-angle testbed, 0.14-0.17 rad residual against
+    0.04-0.06 rad over the scene).
+
+    Parameters
+    ----------
+    ph : PhaseHistory
+    grid : Grid
+    factor : float
+        Largest widening per axis.
+
+    Returns
+    -------
+    Grid
+    """
+    plane = plane_from(ph.track, ph.center_position, grid.plane)
+    ext_a, ext_r = unambiguous_extent(ph, plane)
+    nx = int(min(max(grid.nx, math.floor(ext_a / grid.dx)), math.ceil(factor * grid.nx)))
+    ny = int(min(max(grid.ny, math.floor(ext_r / grid.dy)), math.ceil(factor * grid.ny)))
+    return grid.model_copy(update={"nx": nx, "ny": ny})
 
 
 def select_pixels(ph: PhaseHistory, grid: Grid, max_entries: int = MAX_ENTRIES) -> np.ndarray:
@@ -123,7 +181,8 @@ def as_dataset(ph: PhaseHistory, data: np.ndarray, attrs: dict | None = None) ->
 
 def pulse_autofocus(raw: xr.Dataset, grid: Grid | None = None, *, chirp_correction: str = "none",
                     plane: str | None = None, max_sweeps: int = 10, tol: float = 1e-3,
-                    max_entries: int = MAX_ENTRIES, upsample: int = BP_UPSAMPLE) -> tuple[xr.Dataset, PulseAutofocusResult]:
+                    max_entries: int = MAX_ENTRIES, upsample: int = BP_UPSAMPLE,
+                    support: str = "scene") -> tuple[xr.Dataset, PulseAutofocusResult]:
     """Estimate one phase per pulse by backprojection sharpness and correct the phase history.
 
     Parameters
@@ -146,6 +205,9 @@ def pulse_autofocus(raw: xr.Dataset, grid: Grid | None = None, *, chirp_correcti
         Memory bound on pulses x pixels (complex64, 8 bytes each).
     upsample : int
         Range-profile upsampling of the contributions.
+    support : {"scene", "grid"}
+        Pixels the sharpness is measured on: the grid widened to the scene the data hold
+        (:func:`support_grid`), or the grid alone.
 
     Returns
     -------
@@ -163,7 +225,11 @@ def pulse_autofocus(raw: xr.Dataset, grid: Grid | None = None, *, chirp_correcti
     if plane is not None:
         check_choice("plane", plane, PLANES)
         g = g.model_copy(update={"plane": plane})
+    if support not in ("scene", "grid"):
+        raise ScenarioError("support", support, "must be scene or grid")
     t0 = time.perf_counter()
+    if support == "scene":
+        g = support_grid(ph, g)
     pts = select_pixels(ph, g, max_entries)
     B = pulse_contributions(ph.data, ph.freq, ph.positions, ph.reference_range, pts, upsample=upsample)
     res = pulse_sharpness(B, max_sweeps=max_sweeps, tol=tol)
@@ -171,6 +237,7 @@ def pulse_autofocus(raw: xr.Dataset, grid: Grid | None = None, *, chirp_correcti
     del B
     data = ph.data * np.exp(1j * res.phase)[:, None]
     ds = as_dataset(ph, data, {"autofocus": "pulse", "autofocus_pixels": int(pts.shape[0]),
+                               "autofocus_support": f"{g.nx}x{g.ny}",
                                "autofocus_sweeps": len(res.history) - 1,
                                "autofocus_s": time.perf_counter() - t0})
     if "slow_time" in raw.coords and raw.sizes.get("slow_time") == data.shape[0]:
@@ -180,4 +247,5 @@ def pulse_autofocus(raw: xr.Dataset, grid: Grid | None = None, *, chirp_correcti
     return ds, res
 
 
-__all__ = ["MAX_ENTRIES", "as_dataset", "fix_ramp", "pulse_autofocus", "select_pixels"]
+__all__ = ["MAX_ENTRIES", "SUPPORT_FACTOR", "as_dataset", "fix_ramp", "pulse_autofocus", "select_pixels",
+           "support_grid", "unambiguous_extent"]
