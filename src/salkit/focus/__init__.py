@@ -209,7 +209,7 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
         "phase_reference": "track" if (alg == "omegak" or ph.mode == "stripmap") else "aperture_centre",
         "aperture_center": ph.center_position,
     }
-    attrs.update({k: v for k, v in result.info.items() if k.startswith(("support_", "cover_", "illuminated_", "ffbp_"))})
+    attrs.update({k: v for k, v in result.info.items() if k.startswith(("support_", "cover_", "illuminated_", "ffbp_", "pfa_"))})
     for k in ("frequency_fit_residual_steps", "frequency_fit_residual", "phase_sign_converted"):
         if k in ph.attrs:
             attrs[k] = ph.attrs[k]

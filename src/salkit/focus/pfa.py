@@ -33,6 +33,62 @@ WORKERS = FFT_WORKERS
 
 #: Largest grid (pixels) PFA forms to cover the illuminated scene before cropping (2 GiB complex64).
 MAX_COVER_PIXELS = 2 ** 28
+#: Plane-wave limits: residual (defocusing) phase of the wavefront curvature over the aperture, rad,
+#: and the position distortion, pixels, at the grid's corners; above either PFA warns.
+PLANE_WAVE_PHASE_RAD = math.pi / 4
+PLANE_WAVE_SHIFT_PX = 0.5
+
+
+def plane_wave_error(freq: np.ndarray, positions: np.ndarray, plane, az: np.ndarray, rg: np.ndarray) -> dict:
+    """How far PFA's plane-wave model departs from the spherical wave over a grid.
+
+    At each of the grid's corners and edge midpoints x, the two-way phase the data carry,
+    k_c (|x - p_n| - |p_n|), differs from the plane-wave model's -k_c u_n . x by e(n). PFA
+    removes e at the aperture centre (the curvature phase, pixel by pixel) at the carrier only;
+    what varies over the aperture remains. Its part linear in the azimuth wavenumber
+    k_x,n = k_c u_n . e_a moves the point in azimuth (de/dk_x metres), the rest defocuses it; over
+    the band the centre's e scales with k, which moves the point in range by e_c / k_c along the
+    line of sight (e_c / (k_c |u_c . e_r|) along the plane's range axis).
+
+    Parameters
+    ----------
+    freq : float64 (M,)
+        Hz.
+    positions : float64 (P, 3)
+        m, scene centre at the origin.
+    plane : ImagePlane
+    az, rg : float64
+        Pixel axes, m.
+
+    Returns
+    -------
+    dict
+        ``pfa_defocus_rad`` (largest residual phase after a constant and a linear term),
+        ``pfa_distortion_azimuth_m``, ``pfa_distortion_range_m`` (largest displacements) and
+        ``pfa_distortion_px`` (the larger over the pixel spacing).
+    """
+    pos = np.asarray(positions, np.float64)
+    R = np.linalg.norm(pos, axis=1)
+    u = pos / R[:, None]
+    kc = 4.0 * math.pi * float(freq[freq.size // 2]) / SPEED_OF_LIGHT
+    kx = kc * (u @ plane.azimuth)
+    kx = kx - kx.mean()
+    scale = max(float(np.max(np.abs(kx))), 1e-300)
+    worst_q, worst_s, worst_r = 0.0, 0.0, 0.0
+    c = positions.shape[0] // 2
+    cos_r = max(abs(float(u[c] @ plane.range)), 1e-3)
+    for a in (az[0], az[az.size // 2], az[-1]):
+        for g in (rg[0], rg[rg.size // 2], rg[-1]):
+            x = plane.points(a, g)
+            e = kc * (np.linalg.norm(x - pos, axis=1) - R) + kc * (u @ x)
+            c1 = np.polyfit(kx / scale, e, 1)
+            worst_q = max(worst_q, float(np.max(np.abs(e - np.polyval(c1, kx / scale)))))
+            worst_s = max(worst_s, abs(float(c1[0])) / scale)
+            worst_r = max(worst_r, abs(float(e[c])) / kc / cos_r)
+    dx = abs(float(az[1] - az[0])) if az.size > 1 else 1.0
+    dy = abs(float(rg[1] - rg[0])) if rg.size > 1 else 1.0
+    return {"pfa_defocus_rad": worst_q, "pfa_distortion_azimuth_m": worst_s, "pfa_distortion_range_m": worst_r,
+            "pfa_distortion_px": max(worst_s / dx, worst_r / dy)}
 
 
 def illuminated_extent(freq: np.ndarray, positions: np.ndarray, plane, real_aperture: float = 0.0) -> dict:
@@ -184,8 +240,20 @@ def pfa(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.n
         Normalised image and its support figures.
     """
     info = {"cover_azimuth": az.size, "cover_range": rg.size}
+    pw = plane_wave_error(freq, positions, plane, az, rg)
+    info.update(pw)
+    if pw["pfa_defocus_rad"] > PLANE_WAVE_PHASE_RAD or pw["pfa_distortion_px"] > PLANE_WAVE_SHIFT_PX:
+        import warnings
+        warnings.warn(f"processing.algorithm = pfa: the plane-wave model breaks on this grid: at its edges the "
+                      f"wavefront curvature leaves {pw['pfa_defocus_rad']:.3g} rad of defocus (limit "
+                      f"{PLANE_WAVE_PHASE_RAD:.3g}) and moves points by {pw['pfa_distortion_azimuth_m']:.3g} m in "
+                      f"azimuth and {pw['pfa_distortion_range_m']:.3g} m in range, up to "
+                      f"{pw['pfa_distortion_px']:.3g} pixels (limit {PLANE_WAVE_SHIFT_PX}); use bp or ffbp",
+                      stacklevel=2)
     if not cover:
-        return pfa_on_grid(ph, freq, positions, ref_range, plane, az, rg, win_az, win_rg, half)
+        img, inf = pfa_on_grid(ph, freq, positions, ref_range, plane, az, rg, win_az, win_rg, half)
+        info.update(inf)
+        return img, info
     ext = illuminated_extent(freq, positions, plane, real_aperture)
     az2, rg2, (i0, j0) = cover_axes(az, rg, ext)
     if az2.size * rg2.size > MAX_COVER_PIXELS:
