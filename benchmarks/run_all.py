@@ -28,6 +28,9 @@ same run. Run with ``make bench`` (or ``.venv/bin/python benchmarks/run_all.py``
   pixels (as many pulses), direct BP timed on a block of rows and scaled, both the best of the
   same number of runs; ffbp_knobs: the accuracy-speed curve over the polar-grid oversampling and
   the leaf size at 1024^2.
+- accuracy (benchmarks/accuracy.py): every former (bp, bp at 32x, ffbp, ffbp high, pfa) on the
+  test geometries against the exact float64 matched filter: error energy, bright-pixel phase
+  error, time; the wide-angle arc from 101^2 to 2001^2 pixels.
 - propagation: split-step wave-optics propagation per realisation (10 screens) at N = 256, 512,
   1024 against the same propagation written plainly with np.fft; fields compared.
 - scaling: time and peak memory of each stage (simulate, phase history, BP, FFBP, PFA, PGA) at
@@ -49,6 +52,7 @@ import scipy.fft as sfft
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from common import C, best_of, spotlight_problem  # noqa: E402
+from accuracy import bench_accuracy  # noqa: E402
 
 
 def numpy_backprojection(ph, plane, az, rg, upsample=8):
@@ -674,7 +678,7 @@ def main():
     for name, fn in (("backprojection", bench_backprojection), ("pfa", bench_pfa), ("simulation", bench_simulation),
                      ("screens", bench_screens), ("pga", bench_pga), ("chirp", bench_chirp),
                      ("spaceborne", bench_spaceborne), ("downlooking", bench_downlooking), ("outside", bench_outside),
-                     ("startup", bench_startup), ("ffbp", bench_ffbp), ("ffbp_knobs", bench_ffbp_knobs),
+                     ("startup", bench_startup), ("ffbp", bench_ffbp), ("ffbp_knobs", bench_ffbp_knobs), ("accuracy", bench_accuracy),
                      ("scaling", bench_scaling), ("propagation", bench_propagation),
                      ("turbulence_wave_optics", bench_turbulence_wave_optics),
                      ("wave_structure_function", bench_wave_structure_function)):

@@ -104,7 +104,7 @@ class Testbed:
 
 def wide_angle(arc_deg: float = 4.0, climb: float = 0.0, plane: str = "ground", pulses: int | None = None,
                radius: float = 7000.0, height: float = 7300.0, f0: float = 9.29e9, df: float = 1.47e6,
-               n_freq: int = 424) -> Testbed:
+               n_freq: int = 424, n: int | None = None) -> Testbed:
     """Airborne X-band circular arc (see the module docstring).
 
     Parameters
@@ -120,22 +120,38 @@ def wide_angle(arc_deg: float = 4.0, climb: float = 0.0, plane: str = "ground", 
     f0, df : float
         First frequency and step, Hz.
     n_freq : int
+    n : int, optional
+        Grid size to sample for: where an n x n grid would exceed what 469 pulses (per 4 degrees)
+        and 424 frequencies hold without ambiguity, more pulses over the same arc and more,
+        finer frequency steps over the same band are used (range with a 25 % margin, so that
+        sidelobes do not wrap: the exact matched filter is periodic in range, backprojection reads
+        one period).
 
     Returns
     -------
     Testbed
-        Pixel spacing 0.2 m in range and the smaller of 0.2 m and 0.8 x the azimuth resolution.
+        Pixel spacing 0.2 m in range; in azimuth 0.2 m where the arc resolves it (4 degrees:
+        0.224 m), else 0.8 x the azimuth resolution.
     """
     if arc_deg <= 0 or arc_deg >= 90:
         raise ScenarioError("arc_deg", arc_deg, "must be in (0, 90) degrees")
     P = pulses or int(round(469 * arc_deg / 4.0))
+    lam = SPEED_OF_LIGHT / (f0 + df * (n_freq // 2))
+    arc = np.deg2rad(arc_deg)
+    rho_a = lam / (2.0 * arc)
+    dx = 0.2 if rho_a >= 0.2 else round(0.8 * rho_a, 3)  # the users' 0.2 m where it resolves
+    if n is not None:
+        P = max(P, int(math.ceil(1.0 + 2.0 * n * dx * arc / lam)))
+        dep = math.atan2(height, radius)
+        extent_r = 1.25 * n * 0.2 * (1.0 if plane == "slant" else math.cos(dep))
+        B = n_freq * df
+        m = int(math.ceil(2.0 * B * extent_r / SPEED_OF_LIGHT))
+        if m > n_freq:
+            n_freq, df = m, B / m
     phi = np.deg2rad(np.linspace(0.0, arc_deg, P))
     z = height + climb * np.linspace(0.0, 1.0, P)
     pos = np.stack([radius * np.cos(phi), radius * np.sin(phi), z], axis=1)
     f = f0 + df * np.arange(n_freq)
-    lam = SPEED_OF_LIGHT / f[n_freq // 2]
-    rho_a = lam / (2.0 * np.deg2rad(arc_deg))
-    dx = min(0.2, round(0.8 * rho_a, 3))
     name = f"wide_angle_{arc_deg:g}deg_{'climb' if climb else 'level'}_{plane}"
     return Testbed(name, pos, f, plane, dx, 0.2)
 
