@@ -12,7 +12,7 @@ import pytest
 from salkit.focus.pfa import plane_wave_error
 from salkit.simulate.testbeds import wide_angle
 
-from .test_accuracy import GEOMETRIES, error_db, form
+from .test_exact_accuracy import GEOMETRIES, error_db, form
 
 
 @pytest.mark.parametrize("name,limit", [("seed_5km", -20), ("seed_560km", -25), ("wide4_climb_ground", -13)])

@@ -19,7 +19,7 @@ import math
 import os
 
 import numpy as np
-from numba import njit, prange
+from numba import get_num_threads, njit, prange
 
 from ..constants import SPEED_OF_LIGHT
 from ..errors import ScenarioError
@@ -104,13 +104,23 @@ def estimated_seconds(n_pulses: int, n_frequencies: int, n_pixels: int, cores: i
     0.7
     """
     if cores is None:
-        from numba import get_num_threads
         cores = get_num_threads()
     return float(n_pulses) * n_frequencies * n_pixels / (RATE_PER_CORE * max(cores, 1))
 
 
 def max_seconds() -> float:
-    """The time limit of the ``exact`` former, s: ``SALKIT_EXACT_MAX_SECONDS`` or :data:`MAX_SECONDS`."""
+    """The time limit of the ``exact`` former: ``SALKIT_EXACT_MAX_SECONDS`` or :data:`MAX_SECONDS`.
+
+    Returns
+    -------
+    float
+        s.
+
+    Raises
+    ------
+    ScenarioError
+        When the environment variable is not a number.
+    """
     try:
         return float(os.environ.get("SALKIT_EXACT_MAX_SECONDS", MAX_SECONDS))
     except ValueError:

@@ -13,6 +13,7 @@ removed pixel by pixel, so PFA images carry the same phase as backprojection.
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import scipy.fft as sfft
@@ -243,7 +244,6 @@ def pfa(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.n
     pw = plane_wave_error(freq, positions, plane, az, rg)
     info.update(pw)
     if pw["pfa_defocus_rad"] > PLANE_WAVE_PHASE_RAD or pw["pfa_distortion_px"] > PLANE_WAVE_SHIFT_PX:
-        import warnings
         warnings.warn(f"processing.algorithm = pfa: the plane-wave model breaks on this grid: at its edges the "
                       f"wavefront curvature leaves {pw['pfa_defocus_rad']:.3g} rad of defocus (limit "
                       f"{PLANE_WAVE_PHASE_RAD:.3g}) and moves points by {pw['pfa_distortion_azimuth_m']:.3g} m in "

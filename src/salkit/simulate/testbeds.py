@@ -24,6 +24,7 @@ import xarray as xr
 from ..constants import SPEED_OF_LIGHT
 from ..errors import ScenarioError
 from ..geometry.collection import ImagePlane, plane_from
+from ..params.models import Grid
 from .analytic import phase_history_dataset
 
 
@@ -67,7 +68,6 @@ class Testbed:
 
     def grid(self, n: int, m: int | None = None):
         """A :class:`salkit.params.Grid` of n x m pixels (m = n) centred on the scene centre."""
-        from ..params.models import Grid
         return Grid(nx=n, ny=m or n, dx=self.dx, dy=self.dy, plane=self.plane)
 
     def point_targets(self, n: int, count: int = 5, fill: float = 0.8) -> tuple[np.ndarray, np.ndarray]:
