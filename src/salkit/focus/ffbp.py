@@ -248,6 +248,10 @@ SEG_FRACTION = 0.03125
 SEG_CURVATURE = 2e-4
 #: Longest segment, samples.
 SEG_MAX = 512
+#: Point index of each interleaved float along a segment (0, 0, 1, 1, ...), read instead of
+#: computed: converting the int64 index to float32 has no packed instruction without AVX-512DQ,
+#: which left the passes scalar on AVX2 (FFBP 3x slower there than with AVX-512).
+RAMP2 = (np.arange(2 * SEG_MAX) >> 1).astype(np.float32)
 
 
 @njit(cache=True, fastmath=True, inline="always", error_model="numpy")
@@ -339,7 +343,7 @@ def _range_pass(fr_b, n, h2, j_lo, j_hi, span, tr, sn_b, cs_b, acc2, t2):
             wb = tr[i0, b]
             dwb = (tr[i1, b] - wb) * inv_m
             for q in range(m2):
-                tt[q] += (wb + dwb * np.float32(q >> 1)) * src[q]
+                tt[q] += (wb + dwb * RAMP2[q]) * src[q]
         k = e + 1
     sv = sn_b[k_lo:k_hi + 1]
     cv = cs_b[k_lo:k_hi + 1]
@@ -429,7 +433,7 @@ def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, cx, cy, cz, dr_child, ea0,
                 wa = tu[i0, a]
                 dwa = (tu[i1, a] - wa) * inv_m
                 for q in range(m2):
-                    hh[q] += (wa + dwa * np.float32(q >> 1)) * row[q]
+                    hh[q] += (wa + dwa * RAMP2[q]) * row[q]
         j = e + 1
     # pass 3: the cut interpolated in range at every point, phase restored
     _range_pass(fr_b, n, h2, j_lo, j_hi, span, tr, sn_b, cs_b, acc2, t2)
