@@ -5,7 +5,9 @@ peak, and the time, in one run.
 
 Scenes: speckle (1 % of the scatterers 30 times brighter) over the grid; on large grids the truth
 is evaluated on every k-th azimuth row (an unbiased sample of the error energy). The wide-angle
-arc is also run from 101^2 to 2001^2 pixels (the error must not grow with the scene).
+arc is also run from 101^2 to 2001^2 pixels (the error must not grow with the scene), with pulses
+and frequencies sampling each grid without ambiguity and, ``_p469``, with the issue's 469 pulses
+(aliased in azimuth beyond 108 m, consistently for every former and the truth).
 
 ``python benchmarks/run_all.py accuracy`` runs it; ``python benchmarks/accuracy.py`` prints the
 markdown table of docs/performance.md.
@@ -28,6 +30,8 @@ CASES = [
     ("wide4_climb_ground_501", lambda t: t.wide_angle(4.0, 0.5, "ground", n=501), 501, 4),
     ("wide4_climb_ground_1001", lambda t: t.wide_angle(4.0, 0.5, "ground", n=1001), 1001, 8),
     ("wide4_climb_ground_2001", lambda t: t.wide_angle(4.0, 0.5, "ground", n=2001), 2001, 32),
+    ("wide4_climb_ground_1001_p469", lambda t: t.wide_angle(4.0, 0.5, "ground", n=1001, pulses=469), 1001, 8),
+    ("wide4_climb_ground_2001_p469", lambda t: t.wide_angle(4.0, 0.5, "ground", n=2001, pulses=469), 2001, 32),
     ("wide4_level_ground_501", lambda t: t.wide_angle(4.0, 0.0, "ground", n=501), 501, 4),
     ("wide4_climb_slant_501", lambda t: t.wide_angle(4.0, 0.5, "slant", n=501), 501, 4),
     ("wide10_climb_ground_501", lambda t: t.wide_angle(10.0, 0.5, "ground", n=501), 501, 4),

@@ -115,6 +115,7 @@ def wide_angle(arc_deg: float = 4.0, climb: float = 0.0, plane: str = "ground", 
         Height gained over the pass, m (0: level).
     plane : {"ground", "slant"}
     pulses : int, optional
+        Pulses over the arc (default 469 per 4 degrees, more for a large ``n``; given, kept).
     radius, height : float
         m.
     f0, df : float
@@ -141,7 +142,8 @@ def wide_angle(arc_deg: float = 4.0, climb: float = 0.0, plane: str = "ground", 
     rho_a = lam / (2.0 * arc)
     dx = 0.2 if rho_a >= 0.2 else round(0.8 * rho_a, 3)  # the users' 0.2 m where it resolves
     if n is not None:
-        P = max(P, int(math.ceil(1.0 + 2.0 * n * dx * arc / lam)))
+        if pulses is None:
+            P = max(P, int(math.ceil(1.0 + 2.0 * n * dx * arc / lam)))
         dep = math.atan2(height, radius)
         extent_r = 1.25 * n * 0.2 * (1.0 if plane == "slant" else math.cos(dep))
         B = n_freq * df
