@@ -83,10 +83,11 @@ def available_memory() -> int:
     """
     cands = []
     try:
-        for line in open("/proc/meminfo"):
-            if line.startswith("MemAvailable:"):
-                cands.append(int(line.split()[1]) * 1024)
-                break
+        with open("/proc/meminfo") as f:  # closed at once (an open file left to the collector warns)
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    cands.append(int(line.split()[1]) * 1024)
+                    break
     except OSError:
         pass
     if not cands:
