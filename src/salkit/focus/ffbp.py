@@ -329,8 +329,9 @@ def _range_pass(fr_b, n, h2, j_lo, j_hi, span, tr, sn_b, cs_b, acc2, t2):
     # loops run over slices from 0 (an index that may be negative gets numba's wraparound, which
     # LLVM vectorises with scatters)
     tz = t2[2 * k_lo:2 * (k_hi + 1)]
-    for q in range(tz.shape[0]):
-        tz[q] = np.float32(0.0)
+    if taps != 8:  # the 8-tap segments assign every float
+        for q in range(tz.shape[0]):
+            tz[q] = np.float32(0.0)
     k = k_lo
     while k <= k_hi:
         f0 = fr_b[k]
@@ -356,12 +357,31 @@ def _range_pass(fr_b, n, h2, j_lo, j_hi, span, tr, sn_b, cs_b, acc2, t2):
         i1 = int(t1 * T + 0.5)
         inv_m = np.float32(1.0 / (e - k)) if e > k else np.float32(0.0)
         tt = t2[2 * k:2 * k + m2]
-        for b in range(taps):
-            src = h2[2 * (k + off - hb + b - j_lo):2 * (k + off - hb + b - j_lo) + m2]
-            wb = tr[i0, b]
-            dwb = (tr[i1, b] - wb) * inv_m
+        if taps == 8:  # the taps in registers, one store a float (LLVM will not interchange the loops)
+            s0 = 2 * (k + off - hb - j_lo)
+            src = h2[s0:s0 + m2 + 14]
+            w0, w1, w2, w3 = tr[i0, 0], tr[i0, 1], tr[i0, 2], tr[i0, 3]
+            w4, w5, w6, w7 = tr[i0, 4], tr[i0, 5], tr[i0, 6], tr[i0, 7]
+            d0 = (tr[i1, 0] - w0) * inv_m
+            d1 = (tr[i1, 1] - w1) * inv_m
+            d2 = (tr[i1, 2] - w2) * inv_m
+            d3 = (tr[i1, 3] - w3) * inv_m
+            d4 = (tr[i1, 4] - w4) * inv_m
+            d5 = (tr[i1, 5] - w5) * inv_m
+            d6 = (tr[i1, 6] - w6) * inv_m
+            d7 = (tr[i1, 7] - w7) * inv_m
             for q in range(m2):
-                tt[q] += (wb + dwb * RAMP2[q]) * src[q]
+                r = RAMP2[q]
+                tt[q] = ((w0 + d0 * r) * src[q] + (w1 + d1 * r) * src[q + 2] + (w2 + d2 * r) * src[q + 4]
+                         + (w3 + d3 * r) * src[q + 6] + (w4 + d4 * r) * src[q + 8] + (w5 + d5 * r) * src[q + 10]
+                         + (w6 + d6 * r) * src[q + 12] + (w7 + d7 * r) * src[q + 14])
+        else:
+            for b in range(taps):
+                src = h2[2 * (k + off - hb + b - j_lo):2 * (k + off - hb + b - j_lo) + m2]
+                wb = tr[i0, b]
+                dwb = (tr[i1, b] - wb) * inv_m
+                for q in range(m2):
+                    tt[q] += (wb + dwb * RAMP2[q]) * src[q]
         k = e + 1
     sv = sn_b[k_lo:k_hi + 1]
     cv = cs_b[k_lo:k_hi + 1]
@@ -437,8 +457,6 @@ def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, cx, cy, cz, dr_child, ea0,
                 e = j + (e - j) // 2
         m2 = 2 * (e + 1 - j)
         hh = h2[2 * (j - j_lo):2 * (j - j_lo) + m2]
-        for q in range(m2):
-            hh[q] = np.float32(0.0)
         if iu >= ha and iu + ANGLE_TAPS - ha <= nuc:
             t0 = f0 - iu
             t1 = _angle_at(e, fr_b, v_b, n, inv_slope) - iu
@@ -446,12 +464,43 @@ def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, cx, cy, cz, dr_child, ea0,
             i1 = int(t1 * T + 0.5)
             inv_m = np.float32(1.0 / (e - j)) if e > j else np.float32(0.0)
             g = 2 * j
-            for a in range(ANGLE_TAPS):  # one child row at a time: three pointers, so it vectorises
-                row = Gf[c, iu - ha + a, g:g + m2]
-                wa = tu[i0, a]
-                dwa = (tu[i1, a] - wa) * inv_m
+            if ANGLE_TAPS == 8:  # the eight child rows at once: one store a float
+                b0 = iu - ha
+                x0 = Gf[c, b0, g:g + m2]
+                x1 = Gf[c, b0 + 1, g:g + m2]
+                x2 = Gf[c, b0 + 2, g:g + m2]
+                x3 = Gf[c, b0 + 3, g:g + m2]
+                x4 = Gf[c, b0 + 4, g:g + m2]
+                x5 = Gf[c, b0 + 5, g:g + m2]
+                x6 = Gf[c, b0 + 6, g:g + m2]
+                x7 = Gf[c, b0 + 7, g:g + m2]
+                w0, w1, w2, w3 = tu[i0, 0], tu[i0, 1], tu[i0, 2], tu[i0, 3]
+                w4, w5, w6, w7 = tu[i0, 4], tu[i0, 5], tu[i0, 6], tu[i0, 7]
+                d0 = (tu[i1, 0] - w0) * inv_m
+                d1 = (tu[i1, 1] - w1) * inv_m
+                d2 = (tu[i1, 2] - w2) * inv_m
+                d3 = (tu[i1, 3] - w3) * inv_m
+                d4 = (tu[i1, 4] - w4) * inv_m
+                d5 = (tu[i1, 5] - w5) * inv_m
+                d6 = (tu[i1, 6] - w6) * inv_m
+                d7 = (tu[i1, 7] - w7) * inv_m
                 for q in range(m2):
-                    hh[q] += (wa + dwa * RAMP2[q]) * row[q]
+                    r = RAMP2[q]
+                    hh[q] = ((w0 + d0 * r) * x0[q] + (w1 + d1 * r) * x1[q] + (w2 + d2 * r) * x2[q]
+                             + (w3 + d3 * r) * x3[q] + (w4 + d4 * r) * x4[q] + (w5 + d5 * r) * x5[q]
+                             + (w6 + d6 * r) * x6[q] + (w7 + d7 * r) * x7[q])
+            else:
+                for q in range(m2):
+                    hh[q] = np.float32(0.0)
+                for a in range(ANGLE_TAPS):  # one child row at a time: three pointers, so it vectorises
+                    row = Gf[c, iu - ha + a, g:g + m2]
+                    wa = tu[i0, a]
+                    dwa = (tu[i1, a] - wa) * inv_m
+                    for q in range(m2):
+                        hh[q] += (wa + dwa * RAMP2[q]) * row[q]
+        else:
+            for q in range(m2):
+                hh[q] = np.float32(0.0)
         j = e + 1
     # pass 3: the cut interpolated in range at every point, phase restored
     _range_pass(fr_b, n, h2, j_lo, j_hi, span, tr, sn_b, cs_b, acc2, t2)
