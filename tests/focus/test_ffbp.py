@@ -130,4 +130,4 @@ def test_leaf_series_equals_the_exact_quotient(monkeypatch):
     a, _ = F.ffbp(ph.data, ph.freq, ph.positions, ph.reference_range, ig, np.ones(P), np.ones(M))
     monkeypatch.setattr(F, "SERIES", False)
     b, _ = F.ffbp(ph.data, ph.freq, ph.positions, ph.reference_range, ig, np.ones(P), np.ones(M))
-    assert 10 * np.log10(np.sum(np.abs(a - b) ** 2) / np.sum(np.abs(b) ** 2)) < -100
+    assert np.sum(np.abs(a - b) ** 2) <= 1e-10 * np.sum(np.abs(b) ** 2)  # -100 dB (often identical in float32)
