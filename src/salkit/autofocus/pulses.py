@@ -14,10 +14,10 @@ import numpy as np
 import xarray as xr
 
 from ..choices import PLANES, check_choice
-from ..constants import SPEED_OF_LIGHT
 from ..errors import ScenarioError
 from ..focus import PhaseHistory, default_grid, phase_history
 from ..focus.backprojection import pulse_contributions, range_profiles
+from ..focus.pfa import illuminated_extent
 from ..geometry.collection import grid_axes, plane_from
 from ..params.models import Grid
 from .sharpness import PulseAutofocusResult, pulse_sharpness
@@ -30,34 +30,11 @@ MAX_ENTRIES = 2 ** 26
 SUPPORT_FACTOR = 3.0
 
 
-def unambiguous_extent(ph: PhaseHistory, plane) -> tuple[float, float]:
-    """Extent of the scene the collection samples without ambiguity, along the plane's azimuth
-    and range axes, m: lambda / (2 dtheta) for the mean angular step dtheta between pulses seen
-    from the scene centre, and c / (2 df) projected onto the plane's range axis.
-
-    Parameters
-    ----------
-    ph : PhaseHistory
-    plane : ImagePlane
-
-    Returns
-    -------
-    (float, float)
-        m.
-    """
-    u = ph.positions / np.linalg.norm(ph.positions, axis=1, keepdims=True)
-    dth = float(np.mean(np.arccos(np.clip(np.sum(u[1:] * u[:-1], axis=1), -1.0, 1.0)))) if u.shape[0] > 1 else 0.0
-    az = ph.wavelength / (2.0 * dth) if dth > 0 else np.inf
-    look = -ph.center_position / np.linalg.norm(ph.center_position)
-    cos_r = abs(float(look @ plane.range))
-    rg = SPEED_OF_LIGHT / (2.0 * float(ph.freq[1] - ph.freq[0])) / max(cos_r, 1e-3)
-    return az, rg
-
-
 def support_grid(ph: PhaseHistory, grid: Grid, factor: float = SUPPORT_FACTOR) -> Grid:
     """The grid the per-pulse sharpness is measured on: ``grid`` widened, at its spacing and
-    centre, to the scene the data hold (:func:`unambiguous_extent`), at most ``factor`` times its
-    extent per axis and never narrower than it.
+    centre, to the scene the data hold (:func:`salkit.focus.pfa.illuminated_extent`: what the
+    pulse spacing and frequency step hold without ambiguity, and the beam's footprint where the
+    telescope is known), at most ``factor`` times its extent per axis and never narrower than it.
 
     A per-pulse error moves the energy of the whole illuminated scene, not only of the output
     grid: measured over the grid alone, a scene larger than the grid leaves the estimate with a
@@ -76,7 +53,8 @@ def support_grid(ph: PhaseHistory, grid: Grid, factor: float = SUPPORT_FACTOR) -
     Grid
     """
     plane = plane_from(ph.track, ph.center_position, grid.plane)
-    ext_a, ext_r = unambiguous_extent(ph, plane)
+    ext = illuminated_extent(ph.freq, ph.positions, plane, ph.real_aperture)
+    ext_a, ext_r = ext["azimuth"], ext["range"]
     nx = int(min(max(grid.nx, math.floor(ext_a / grid.dx)), math.ceil(factor * grid.nx)))
     ny = int(min(max(grid.ny, math.floor(ext_r / grid.dy)), math.ceil(factor * grid.ny)))
     return grid.model_copy(update={"nx": nx, "ny": ny})
@@ -248,4 +226,4 @@ def pulse_autofocus(raw: xr.Dataset, grid: Grid | None = None, *, chirp_correcti
 
 
 __all__ = ["MAX_ENTRIES", "SUPPORT_FACTOR", "as_dataset", "fix_ramp", "pulse_autofocus", "select_pixels",
-           "support_grid", "unambiguous_extent"]
+           "support_grid"]
