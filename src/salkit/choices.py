@@ -5,8 +5,8 @@ from .errors import ScenarioError
 #: Image formers: backprojection, polar format, omega-k, fast factorised backprojection, the exact
 #: float64 matched filter (the truth, small grids).
 ALGORITHMS = ("bp", "pfa", "omegak", "ffbp", "exact")
-#: Image-formation accuracy: standard (bp -67 dB, ffbp -58 to -61 dB against the exact matched
-#: filter) or high, for interferometry (bp -78 dB, ffbp -63 to -74 dB).
+#: Image-formation accuracy: standard (bp -64 to -69 dB, ffbp -56.5 to -61 dB against the exact matched
+#: filter) or high, for interferometry (bp -75.5 to -78.5 dB, ffbp -64 to -73 dB).
 ACCURACY = ("standard", "high")
 #: How the space-borne experiment stacks its sub-images.
 STACK_MODES = ("incoherent", "coherent")

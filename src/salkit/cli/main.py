@@ -310,7 +310,7 @@ def _check_out_file(path: Path, overwrite: bool, field: str = "--out") -> None:
 def focus(raw: Path = typer.Argument(..., metavar="RAW", help="raw or phase-history file: .nc, .cphd or GOTCHA .mat"),
           out_dir: Path = typer.Option(..., "--out", metavar="DIR", help="output folder (complete or absent after the run)"),
           algorithm: Optional[str] = typer.Option(None, metavar="NAME", help="bp | pfa | omegak | ffbp (fast factorised backprojection, spotlight) | exact (float64 matched filter, the truth; small grids)"),
-          accuracy: Optional[str] = typer.Option(None, metavar="LEVEL", help="standard | high (interferometric: bp -78 dB, ffbp -63 to -74 dB against the exact matched filter)"),
+          accuracy: Optional[str] = typer.Option(None, metavar="LEVEL", help="standard | high (interferometric: bp -75.5 to -78.5 dB, ffbp -64 to -73 dB against the exact matched filter)"),
           window: Optional[str] = typer.Option(None, metavar="NAME", help="amplitude window: none | hamming | taylor"),
           nx: Optional[int] = typer.Option(None, metavar="PIXELS", help="grid size along azimuth, pixels (with --ny, --dx, --dy)"),
           ny: Optional[int] = typer.Option(None, metavar="PIXELS", help="grid size along range, pixels"),

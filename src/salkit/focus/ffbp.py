@@ -32,9 +32,9 @@ kilometres each rounded to 6e-11 m. Each polar grid keeps :data:`MARGIN_ANGLE` a
 
 Accuracy knobs: ``oversample_angle`` and ``oversample_range`` (samples per Nyquist interval of
 the polar grids), ``range_taps`` and ``leaf`` (pulses backprojected directly into each
-first-level sub-image). Defaults (1.75, 2.0, 8, 16): -58 to -61 dB image error against the exact
+first-level sub-image). Defaults (1.75, 2.0, 8, 16): -56.5 to -61 dB image error against the exact
 matched filter on the test geometries (:mod:`salkit.simulate.testbeds`); :data:`ACCURATE`
-(2.5, 2.5): -63 to -74 dB. docs/performance.md gives the accuracy-speed curve.
+(2.5, 2.5): -64 to -73 dB. docs/performance.md gives the accuracy-speed curve.
 """
 from __future__ import annotations
 
@@ -52,7 +52,7 @@ from .formers import ImageGrid, ImageResult, register_former
 from .phasehistory import PhaseHistory
 from ..tolerances import BP_UPSAMPLE
 
-#: Default accuracy settings (image error -58 to -61 dB against the exact matched filter).
+#: Default accuracy settings (image error -56.5 to -61 dB against the exact matched filter).
 LEAF_PULSES = 16
 #: Sub-images merged into each parent (4: fewer levels than 2, the same accuracy; the last merge is by 2).
 MERGE_FACTOR = 4
@@ -64,7 +64,7 @@ ANGLE_TAPS = 8
 SERIES = True
 #: Taps of the merges' range interpolation.
 RANGE_TAPS = 8
-#: The accuracy setting (``processing.ffbp_accuracy = "high"``): -63 to -74 dB against the exact
+#: The accuracy setting (``processing.accuracy = "high"``): -64 to -73 dB against the exact
 #: matched filter, about 1.3x the default's time.
 ACCURATE = {"oversample_angle": 2.5, "oversample_range": 2.5}
 #: Taps of the leaves' range interpolation of the pulses' profiles.

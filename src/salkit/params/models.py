@@ -341,10 +341,10 @@ class Processing(_Frozen):
     autofocus_kernel: Literal[PGA_KERNELS] = "lumv"
     autofocus_max_iter: int = Field(default=30, ge=1, le=500)
     accuracy: Literal[ACCURACY] = Field(
-        default="standard", description=("image-formation accuracy against the exact matched filter: standard (bp -67 dB, "
-                                          "ffbp -58 to -61 dB) or high, for interferometry (bp at 32x profiles -78 dB, "
-                                          "ffbp on finer polar grids -63 to -74 dB)"))
-    range_upsample: int = Field(default=BP_UPSAMPLE, ge=2, le=64, description="backprojection profile upsampling (16: -67 dB against the exact matched filter, 32: -78 dB)")
+        default="standard", description=("image-formation accuracy against the exact matched filter: standard (bp -64 to -69 dB, "
+                                          "ffbp -56.5 to -61 dB) or high, for interferometry (bp at 32x profiles -75.5 to -78.5 dB, "
+                                          "ffbp on finer polar grids -64 to -73 dB)"))
+    range_upsample: int = Field(default=BP_UPSAMPLE, ge=2, le=64, description="backprojection profile upsampling (16: -64 to -69 dB against the exact matched filter, 32: -75.5 to -78.5 dB)")
     chirp_correction: Literal[CHIRP_CORRECTIONS] = Field(
         default="none", description="nonlinear-chirp correction from the reference channel")
 
