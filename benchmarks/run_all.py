@@ -284,7 +284,7 @@ def bench_chirp(n=100_000):
     """Cost of each nonlinear-chirp correction per pulse of n samples (seed 002 chirp)."""
     from salkit.focus.chirpcorr import (correct_deskew, correct_paper, correct_resample,
                                         estimate_nonlinear_phase, reference_beat)
-    from salkit.focus.rangecomp import deskew
+    from salkit.focus.dechirp import deskew
     from salkit.systems.chirp import coefficients
     k, tp = 5.44e14, 7.8e-6
     fs = n / tp

@@ -1,4 +1,4 @@
-"""The tests mirror the source file for file: ``tests/<package>/test_<module>[_<topic>].py`` tests
+"""Package faces hold no code, no import cycles, and the tests mirror the source file for file: ``tests/<package>/test_<module>[_<topic>].py`` tests
 ``src/salkit/<package>/<module>.py`` (``test_<package>`` for the package's ``__init__``), every test
 file names a module that exists, and every module has a test file."""
 from pathlib import Path
@@ -6,6 +6,60 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 SRC = ROOT / "src" / "salkit"
 TESTS = ROOT / "tests"
+
+
+def package_faces() -> list[Path]:
+    """Every package's ``__init__.py``."""
+    return sorted(SRC.rglob("__init__.py"))
+
+
+def test_packages_are_faces():
+    """An ``__init__.py`` holds the package's docstring, re-exports and lazy-loading hooks: no function
+    or class of its own, at most 60 lines."""
+    import ast
+    bad = []
+    for f in package_faces():
+        text = f.read_text()
+        defs = [n.name for n in ast.parse(text).body if isinstance(n, (ast.FunctionDef, ast.ClassDef))]
+        if defs or len(text.splitlines()) > 60:
+            bad.append(f"{f.relative_to(SRC)}: {len(text.splitlines())} lines, defines {defs}")
+    assert not bad, "package faces holding code:\n" + "\n".join(bad)
+
+
+def test_no_import_cycle_between_modules():
+    """No module imports, directly or through others, a module that imports it back (grimp's graph
+    of every import, those inside functions included)."""
+    import grimp
+    g = grimp.build_graph("salkit")
+    edges = {m: set(g.find_modules_directly_imported_by(m)) for m in g.modules}
+    index, low, stack, on, cycles, counter = {}, {}, [], set(), [], [0]
+
+    def strongconnect(v):  # Tarjan's strongly connected components
+        index[v] = low[v] = counter[0]
+        counter[0] += 1
+        stack.append(v)
+        on.add(v)
+        for w in edges.get(v, ()):
+            if w not in index:
+                strongconnect(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                cycles.append(sorted(comp))
+
+    for v in sorted(edges):
+        if v not in index:
+            strongconnect(v)
+    assert not cycles, f"import cycles: {cycles}"
 
 
 def modules() -> set[str]:
@@ -52,10 +106,6 @@ def test_every_module_has_a_test_file():
 # at module level (heavy optional modules through lazy_loader); the command line (cli/) imports the
 # library inside each command so that `salkit --help` loads none of it.
 DEFERRED_IMPORTS = {
-    ("geometry/collection.py", ".sampling"): "sampling builds on collection (mutual)",
-    ("geometry/sampling.py", ".collection"): "mutual with collection",
-    ("focus/rangecomp.py", ".chirpcorr"): "chirpcorr builds on rangecomp's deskew (mutual)",
-    ("report/__init__.py", ".writers"): "the writers build on the report package (mutual)",
     ("io/cphd.py", "sarkit"): "sarkit's modules fail under lazy_loader (AttributeError on first use)",
     ("io/sicd.py", "sarkit"): "as io/cphd.py",
     ("io/cphd.py", "lxml"): "an extension module: lazy_loader cannot defer it",

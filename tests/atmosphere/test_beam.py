@@ -13,7 +13,7 @@ from salkit.atmosphere.beam import (plan_beam, plan_for_path, sample_field, scre
                                     two_way_gains)
 from salkit.atmosphere.path import build_path, two_way_phases
 from salkit.errors import SamplingError
-from salkit.simulate import _path_args
+from salkit.simulate.echoes import _path_args
 
 LAM, L, D = 2e-6, 1e4, 0.04
 U0 = np.array([0.0, -0.8, 0.6])

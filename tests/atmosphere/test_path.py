@@ -1,11 +1,10 @@
 """Multi-layer frozen-screen paths: pulse-to-pulse phase statistics against the path theory."""
-import math
 
 import numpy as np
 import pytest
 
 from salkit.atmosphere import r0_from_cn2
-from salkit.atmosphere.path import build_path, two_way_phases
+from salkit.atmosphere.path import build_path, path_frame, two_way_phases
 from salkit.errors import ScenarioError
 
 
@@ -34,31 +33,7 @@ def test_two_way_phase_difference_matches_path_theory():
     assert path.one_way_structure_function(d, R) == pytest.approx(6.88 * (d / r0_sph) ** (5 / 3), rel=0.02)
 
 
-def test_simulated_raw_carries_the_path_phase():
-    """The simulator's echo of the scene-centre target is exp(j phi_two_way) per pulse."""
-    from salkit.geometry import build_collection
-    from salkit.params import parse_scenario
-    from salkit.simulate import simulate, turbulent_path
-    from ..conftest import SPOT, merge
-    sc = parse_scenario(merge(SPOT, atmosphere={"cn2": 1e-14, "layers": 20, "screen_dx": 0.005}))
-    col = build_collection(sc)
-    path = turbulent_path(sc, col)
-    phi = two_way_phases(col.positions, np.zeros((1, 3)), path.screens, path.z, path.origin, path.dx,
-                         path.u0, path.a, path.b)[:, 0]
-    raw = simulate(sc)["signal"].values
-    got = np.angle(raw.mean(axis=1))
-    refl = sc.scene.points[0].phase  # the reflectivity phase rides along
-    assert np.max(np.abs(np.angle(np.exp(1j * (got - phi - refl))))) < 1e-3
-    assert np.std(phi) > 0.1  # the turbulence is really there
-
-
-def test_screen_too_small_and_spacing_warning():
-    from salkit.params import parse_scenario
-    from salkit.simulate import simulate
-    from ..conftest import SPOT, merge
-    sc = parse_scenario(merge(SPOT, atmosphere={"cn2": 1e-14, "layers": 10, "screen_dx": 0.005, "screen_n": 16}))
-    with pytest.raises(ScenarioError, match="atmosphere.screen_n"):
-        simulate(sc)
+def test_spacing_warning_and_bad_cn2():
     with pytest.warns(UserWarning, match="Fresnel limit"):
         build_path(1e-13, 1e4, 2e-6, 10, 32, 0.01, np.array([0, 0, 1.0]), np.array([1.0, 0, 0]))
     with pytest.raises(ScenarioError, match="cn2"):
@@ -81,3 +56,11 @@ def test_profiled_cn2_path():
         parse_scenario(merge(SPOT, atmosphere={"cn2": [1e-14, 1e-15], "layers": 3}))
     sc = parse_scenario(merge(SPOT, atmosphere={"cn2": [1e-14, 1e-15, 1e-16], "layers": 3}))
     assert sc.atmosphere.cn2 == (1e-14, 1e-15, 1e-16)
+
+
+def test_path_frame_is_orthonormal_and_right_handed():
+    u0, a, b = path_frame(np.array([0.0, -3.0, 4.0]), np.array([1.0, 2.0, 0.0]))
+    m = np.stack([u0, a, b])
+    np.testing.assert_allclose(m @ m.T, np.eye(3), atol=1e-15)
+    assert np.linalg.det(m) == pytest.approx(1.0)
+    np.testing.assert_allclose(u0, [0.0, -0.6, 0.8])

@@ -128,3 +128,28 @@ def test_white_error_on_wide_angle_scene_larger_than_the_grid(seed):
     reg = _with_error(bad, res.phase - (r - resid))
     assert _corr(focus(clean, grid=g)["image"].values, focus(reg, grid=g)["image"].values) >= 0.95
     assert ds.attrs["autofocus_support"] != f"{g.nx}x{g.ny}"  # measured over the scene, not the grid alone
+
+
+def test_pulse_focus_forms_with_the_former_it_is_given(scene):
+    """``pulse_focus`` forms the first image, corrects the data on its grid and forms again, both
+    times with the caller's former; the result is the corrected data's image."""
+    import functools
+
+    from salkit.autofocus import pulse_correct, pulse_focus
+    from salkit.focus import grid_of
+    sc, raw, clean = scene
+    err = np.random.default_rng(5).uniform(-np.pi, np.pi, raw.sizes["slow_time"])
+    bad = _with_error(raw, err)
+    calls = []
+
+    def form(data, progress=None):
+        calls.append(progress)
+        return functools.partial(focus, processing=sc.processing)(data, progress=progress)
+
+    ticks = []
+    image, before, m = pulse_focus(bad, form, progress=lambda d, t: ticks.append(d))
+    assert len(calls) == 2 and calls[0] is None and ticks  # the final image reports its progress
+    np.testing.assert_array_equal(before["image"].values, focus(bad, sc.processing)["image"].values)
+    corrected, m2 = pulse_correct(bad, grid_of(before))
+    np.testing.assert_array_equal(image["image"].values, focus(corrected, sc.processing)["image"].values)
+    assert m["autofocus_phase_rms"] == m2["autofocus_phase_rms"] and m["autofocus_s"] > 0

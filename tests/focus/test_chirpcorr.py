@@ -6,7 +6,7 @@ import pytest
 
 from salkit.focus.chirpcorr import (PhaseUnwrapError, correct_deskew, correct_paper, correct_resample,
                                     estimate_nonlinear_phase, reference_beat, spectral_width)
-from salkit.focus.rangecomp import deskew
+from salkit.focus.dechirp import deskew
 from salkit.metrics.pointtarget import ipr_1d
 
 C = 299792458.0

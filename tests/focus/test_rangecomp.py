@@ -1,30 +1,13 @@
-"""Range compression: RVP removal and deskew against the closed form, real sampling, intra-pulse motion."""
+"""Range compression: real sampling, intra-pulse motion, float64 ranges at long range."""
 import numpy as np
 import pytest
 
 from salkit import focus, measure, simulate
-from salkit.focus.rangecomp import deskew
 from salkit.params import parse_scenario
 
 from ..conftest import GEO, SPOT, merge
 
 C = 299792458.0
-
-
-@pytest.mark.parametrize("dtau", [-60e-9, -5e-9, 0.0, 13e-9, 80e-9])
-def test_deskew_removes_rvp_exactly(dtau):
-    fs, k, f0 = 200e6, 7.5e14, C / 1.55e-6
-    n = 2000
-    t = (np.arange(n) - n // 2) / fs
-    s = np.exp(2j * np.pi * ((-(f0 + k * t) * dtau + 0.5 * k * dtau ** 2) % 1.0))[None, :]
-    rvp = np.pi * k * dtau ** 2
-    out = deskew(s.astype(np.complex64), fs, k)[0]
-    want = np.exp(2j * np.pi * ((-(f0 + k * t) * dtau) % 1.0))
-    core = slice(n // 8, n - n // 8)  # away from the circular edges
-    err = np.angle(out[core] * want[core].conj())
-    assert np.max(np.abs(err)) < 2e-3, f"RVP {rvp:.3g} rad not removed"
-    if rvp > 0.5:  # and it was really there
-        assert np.max(np.abs(np.angle(s[0, core] * want[core].conj()))) > 0.4
 
 
 def test_real_sampling_focuses_like_iq():

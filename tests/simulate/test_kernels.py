@@ -7,7 +7,8 @@ import pytest
 from salkit.geometry import build_collection
 from salkit.geometry.collection import beam_gain_table
 from salkit.params import parse_scenario
-from salkit.simulate import _NO_PATH, echo_signal, fast_time_axis, simulate
+from salkit.simulate import echo_signal, fast_time_axis, simulate
+from salkit.simulate.echoes import _NO_PATH
 from salkit.simulate.kernels import simulate_exact
 
 from ..conftest import GEO, SPOT, merge

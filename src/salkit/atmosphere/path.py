@@ -86,6 +86,34 @@ def ray_crossings(positions, targets, z, u0):
     return (t + lam[..., None] * (p - t)).reshape(-1, 3)
 
 
+def path_frame(u0: np.ndarray, along: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The frame of a path and of its layers' screens: the path axis, the screens' first axis
+    (``along`` made orthogonal to it) and their second, ``b = u0 x a``.
+
+    Parameters
+    ----------
+    u0 : float64 (3,)
+        Path direction (any length), scene towards the platform.
+    along : float64 (3,)
+        Direction of the screens' first axis (the track), any length, not parallel to ``u0``.
+
+    Returns
+    -------
+    (u0, a, b) : three float64 (3,) unit vectors, dimensionless
+        Orthonormal, right-handed.
+
+    Examples
+    --------
+    >>> u0, a, b = path_frame(np.array([0.0, 0.0, 2.0]), np.array([1.0, 0.0, 1.0]))
+    >>> a.tolist(), b.tolist()
+    ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0])
+    """
+    u0 = np.asarray(u0, float) / np.linalg.norm(u0)
+    a = np.asarray(along, float) - np.dot(along, u0) * u0
+    a = a / np.linalg.norm(a)
+    return u0, a, np.cross(u0, a)
+
+
 def build_path(cn2, slant_range: float, wavelength: float, layers: int, n: int, dx: float,
                u0: np.ndarray, a: np.ndarray, seed: int = 0, outer_scale: float | None = None,
                inner_scale: float | None = None, centre: tuple[float, float] = (0.0, 0.0)) -> TurbulentPath:
@@ -145,10 +173,7 @@ def build_path(cn2, slant_range: float, wavelength: float, layers: int, n: int, 
     for i in range(layers):
         scr[i] = phase_screens(n, dx, float(r0[i]), count=1, rng=rng, outer_scale=outer_scale,
                                inner_scale=inner_scale, dtype=np.float32)[0]
-    u0 = np.asarray(u0, float) / np.linalg.norm(u0)
-    a = np.asarray(a, float) - np.dot(a, u0) * u0
-    a /= np.linalg.norm(a)
-    b = np.cross(u0, a)
+    u0, a, b = path_frame(u0, a)
     origin = np.tile(np.array(centre) - (n - 1) / 2 * dx, (layers, 1))
     return TurbulentPath(scr, z, r0, dx, origin, u0, a, b, wavelength, float(slant_range))
 

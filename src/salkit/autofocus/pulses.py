@@ -9,19 +9,20 @@ from __future__ import annotations
 
 import math
 import time
+from typing import Callable, Optional
 
 import numpy as np
 import xarray as xr
 
 from ..choices import PLANES, check_choice
 from ..errors import ScenarioError
-from ..focus import PhaseHistory, default_grid, phase_history
+from ..focus import PhaseHistory, default_grid, grid_of, phase_history
 from ..focus.backprojection import pulse_contributions, range_profiles
 from ..focus.pfa import illuminated_extent
 from ..geometry.collection import grid_axes, plane_from
 from ..params.models import Grid
-from .sharpness import PulseAutofocusResult, pulse_sharpness
 from ..tolerances import BP_UPSAMPLE
+from .sharpness import PulseAutofocusResult, pulse_sharpness
 
 #: Largest contribution matrix (pulses x pixels) held in memory: 2**26 complex64 = 512 MiB.
 MAX_ENTRIES = 2 ** 26
@@ -227,3 +228,74 @@ def pulse_autofocus(raw: xr.Dataset, grid: Grid | None = None, *, chirp_correcti
 
 __all__ = ["MAX_ENTRIES", "SUPPORT_FACTOR", "as_dataset", "fix_ramp", "pulse_autofocus", "select_pixels",
            "support_grid"]
+
+
+def pulse_metrics(res: PulseAutofocusResult, prefix: str = "autofocus") -> dict:
+    """Flat numbers for metrics.json from a per-pulse autofocus: sweeps, sharpness per sweep,
+    pixels used, RMS of the applied correction (rad).
+
+    Parameters
+    ----------
+    res : PulseAutofocusResult
+    prefix : str
+        Key prefix.
+
+    Returns
+    -------
+    dict
+    """
+    out = {f"{prefix}_iterations": len(res.history) - 1, f"{prefix}_converged": int(res.converged),
+           f"{prefix}_pixels": res.n_pixels, f"{prefix}_phase_rms": float(np.sqrt(np.mean(res.phase ** 2)))}
+    for h in res.history:
+        out[f"{prefix}_sharpness_{h['iteration']}"] = h["sharpness"]
+    return out
+
+
+def pulse_correct(raw: xr.Dataset, grid: Grid, chirp_correction: str = "none") -> tuple[xr.Dataset, dict]:
+    """Per-pulse autofocus of ``raw`` on ``grid``: the corrected phase history and its metrics
+    (:func:`pulse_metrics` and ``autofocus_s``, the seconds it took).
+
+    Parameters
+    ----------
+    raw : xarray.Dataset
+        Raw data or a phase history.
+    grid : Grid
+        The output grid (m); the sharpness is measured over the scene around it (:func:`support_grid`).
+    chirp_correction : str
+        As ``processing.chirp_correction``.
+
+    Returns
+    -------
+    (xarray.Dataset, dict)
+    """
+    corrected, res = pulse_autofocus(raw, grid, chirp_correction=chirp_correction)
+    m = pulse_metrics(res)
+    m["autofocus_s"] = float(corrected.attrs.get("autofocus_s", 0.0))
+    return corrected, m
+
+
+def pulse_focus(raw: xr.Dataset, form: Callable[..., xr.Dataset], chirp_correction: str = "none",
+                progress: Optional[Callable[[int, int], None]] = None) -> tuple[xr.Dataset, xr.Dataset, dict]:
+    """Focus with per-pulse autofocus: form the image, estimate one phase per pulse on its grid
+    (:func:`pulse_correct`), form the image of the corrected data.
+
+    Parameters
+    ----------
+    raw : xarray.Dataset
+        Raw data or a phase history.
+    form : callable
+        ``form(raw, progress=None) -> image dataset``: the image former with its settings, e.g.
+        ``functools.partial(salkit.focus.focus, processing=p)``.
+    chirp_correction : str
+        As ``processing.chirp_correction``.
+    progress : callable, optional
+        ``progress(done, total)`` of the final image's formation.
+
+    Returns
+    -------
+    (xarray.Dataset, xarray.Dataset, dict)
+        The corrected image, the image before correction, and the autofocus metrics.
+    """
+    before = form(raw)
+    corrected, metrics = pulse_correct(raw, grid_of(before), chirp_correction)
+    return form(corrected, progress=progress), before, metrics

@@ -23,7 +23,7 @@ import numpy as np
 import scipy.fft as sfft
 
 from ..errors import SalkitError
-from .rangecomp import deskew
+from .dechirp import deskew
 
 from ..signals.chirp import TWO_PI, nonlinear_phase, reference_beat  # noqa: F401  (re-exported)
 from .interp import resample_rows

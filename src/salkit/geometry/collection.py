@@ -527,38 +527,6 @@ def plane_resolution(bandwidth: float, wavelength: float, angle: float, look: np
     return rho_slant / max(cos_proj, 1e-12), wavelength / (2.0 * angle), rho_slant
 
 
-def resolution_theory(scenario: Scenario, collection: Collection | None = None) -> dict:
-    """Theoretical resolutions (m) of a scenario in its image plane (:func:`plane_resolution`).
-
-    Range: c/(2 B_eff) with B_eff = chirp_rate * gate, projected onto the image plane.
-    Azimuth: wavelength / (2 * dtheta_eff) (:func:`processed_angle`).
-
-    Parameters
-    ----------
-    scenario : Scenario
-    collection : Collection, optional
-        Built from the scenario when not given.
-
-    Returns
-    -------
-    dict
-        ``range``, ``azimuth``, ``slant_range`` (m), ``bandwidth_eff`` (Hz),
-        ``aperture_length`` (m), ``angle`` (rad).
-    """
-    from .sampling import effective_bandwidth
-
-    col = collection if collection is not None else build_collection(scenario)
-    w, p = scenario.waveform, scenario.platform
-    B = effective_bandwidth(scenario, col)
-    plane = image_plane(col, scenario.processing.grid)
-    ang_eff = processed_angle(col.positions, w.wavelength, p.mode, p.real_aperture)
-    rho_r_plane, rho_a, rho_r = plane_resolution(B, w.wavelength, ang_eff, _unit(-col.center_position),
-                                                 plane.range)
-    aperture = ang_eff * float(np.linalg.norm(col.center_position))
-    return {"range": rho_r_plane, "azimuth": rho_a, "slant_range": rho_r,
-            "bandwidth_eff": B, "aperture_length": aperture, "angle": ang_eff}
-
-
 def equalisation_efficiency(scenario: Scenario, collection: Collection | None = None) -> float:
     """CNR factor of the processor's beam equalisation, 1 / mean(1/g^2) over the processed aperture.
 

@@ -11,8 +11,8 @@ from ..constants import SPEED_OF_LIGHT
 from ..errors import SamplingError, ScenarioError
 from ..tolerances import GRID_SPACING_OF_RESOLUTION
 from ..params.models import Scenario
-from .collection import (Collection, first_null_sin, build_collection, footprint,
-                         scene_point_positions)
+from .collection import (Collection, _unit, build_collection, first_null_sin, footprint, image_plane, plane_resolution,
+                         processed_angle, scene_point_positions)
 
 
 def scene_probe_points(scenario: Scenario) -> np.ndarray:
@@ -127,6 +127,36 @@ def effective_bandwidth(scenario: Scenario, col: Collection | None = None) -> fl
     return scenario.waveform.rate * n_fast_samples(scenario, col) / scenario.receiver.adc_rate
 
 
+def resolution_theory(scenario: Scenario, collection: Collection | None = None) -> dict:
+    """Theoretical resolutions (m) of a scenario in its image plane (:func:`plane_resolution`).
+
+    Range: c/(2 B_eff) with B_eff = chirp_rate * gate, projected onto the image plane.
+    Azimuth: wavelength / (2 * dtheta_eff) (:func:`processed_angle`).
+
+    Parameters
+    ----------
+    scenario : Scenario
+    collection : Collection, optional
+        Built from the scenario when not given.
+
+    Returns
+    -------
+    dict
+        ``range``, ``azimuth``, ``slant_range`` (m), ``bandwidth_eff`` (Hz),
+        ``aperture_length`` (m), ``angle`` (rad).
+    """
+    col = collection if collection is not None else build_collection(scenario)
+    w, p = scenario.waveform, scenario.platform
+    B = effective_bandwidth(scenario, col)
+    plane = image_plane(col, scenario.processing.grid)
+    ang_eff = processed_angle(col.positions, w.wavelength, p.mode, p.real_aperture)
+    rho_r_plane, rho_a, rho_r = plane_resolution(B, w.wavelength, ang_eff, _unit(-col.center_position),
+                                                 plane.range)
+    aperture = ang_eff * float(np.linalg.norm(col.center_position))
+    return {"range": rho_r_plane, "azimuth": rho_a, "slant_range": rho_r,
+            "bandwidth_eff": B, "aperture_length": aperture, "angle": ang_eff}
+
+
 GRID_TOLERANCE = GRID_SPACING_OF_RESOLUTION  # grid spacing may exceed the resolution by 1 %
 
 
@@ -172,8 +202,6 @@ def check_sampling(scenario: Scenario, col: Collection | None = None) -> Samplin
     SamplingReport
         The rates and their margins.
     """
-    from .collection import resolution_theory
-
     col = col if col is not None else build_collection(scenario)
     w, p, rx, proc = scenario.waveform, scenario.platform, scenario.receiver, scenario.processing
     lam = w.wavelength

@@ -1,56 +1,20 @@
-"""NetCDF4/HDF5 reading and writing of salkit datasets (atomic writes, validated reads)."""
-import xarray as _xr
+"""NetCDF4/HDF5 reading and writing of salkit datasets (atomic writes, validated reads), and the
+outside formats (CPHD, SICD, GOTCHA .mat) converted to and from them.
 
-from .datasets import (describe, make_image_dataset, make_raw_dataset, open_dataset, read_image,
-                       read_raw, write_dataset, write_json_atomic, write_text_atomic)
-
+Modules: :mod:`~salkit.io.datasets` (salkit datasets, atomic writes), :mod:`~salkit.io.formats`
+(``read_phase_data`` by suffix), :mod:`~salkit.io.ingest` (normalising outside phase histories),
+:mod:`~salkit.io.cphd`, :mod:`~salkit.io.sicd`, :mod:`~salkit.io.gotcha`, :mod:`~salkit.io.screens`,
+:mod:`~salkit.io.runfolder` (run folders complete or absent).
+"""
 from .cphd import check_cphd, read_cphd, write_cphd
+from .datasets import (describe, input_file, make_image_dataset, make_raw_dataset, open_dataset, read_image,
+                       read_raw, write_dataset, write_json_atomic, write_text_atomic)
+from .formats import PHASE_SUFFIXES, read_phase_data
 from .gotcha import read_gotcha, write_gotcha
 from .ingest import normalise_phase_history, regularise_axis
 from .sicd import check_sicd, read_sicd, write_sicd
-from ..errors import DataFileError as _E
-from pathlib import Path as _P
 
-PHASE_SUFFIXES = {".nc": "NetCDF", ".h5": "NetCDF", ".cphd": "CPHD", ".mat": "GOTCHA .mat"}
-
-
-def read_phase_data(path) -> "_xr.Dataset":
-    """Read a raw or phase-history file of any supported format, chosen by the suffix:
-    ``.nc``/``.h5`` (salkit NetCDF), ``.cphd`` (CPHD 1.0), ``.mat`` (GOTCHA layout).
-
-    Parameters
-    ----------
-    path : str or Path
-
-    Returns
-    -------
-    xarray.Dataset
-        ``salkit_kind`` "raw" or "phase_history".
-
-    Raises
-    ------
-    DataFileError
-        Unknown suffix or an unusable file.
-    """
-    suf = _P(path).suffix.lower()
-    if suf == ".cphd":
-        return read_cphd(path)
-    if suf == ".mat":
-        return read_gotcha(path)
-    if suf in (".nc", ".h5", ".nc4", ".hdf5"):
-        return read_raw(path)
-    raise _E(f"{path}: unknown suffix {suf!r}; salkit reads {', '.join(PHASE_SUFFIXES)}")
-
-
-# Complex variables are HDF5 compound types that only the h5netcdf engine decodes as complex.
-# When netCDF4-python is also installed, make plain xarray.open_dataset try h5netcdf first.
-try:  # pragma: no cover - depends on the xarray version
-    _order = _xr.get_options().get("netcdf_engine_order")
-    if _order and _order[0] != "h5netcdf":
-        _xr.set_options(netcdf_engine_order=("h5netcdf",) + tuple(e for e in _order if e != "h5netcdf"))
-except Exception:  # noqa: BLE001
-    pass
-
-__all__ = ["PHASE_SUFFIXES", "check_cphd", "check_sicd", "read_sicd", "write_sicd", "normalise_phase_history", "read_cphd", "read_gotcha",
-           "read_phase_data", "regularise_axis", "write_cphd", "write_gotcha", "describe", "make_image_dataset", "make_raw_dataset", "open_dataset", "read_image",
-           "read_raw", "write_dataset", "write_json_atomic", "write_text_atomic"]
+__all__ = ["PHASE_SUFFIXES", "check_cphd", "check_sicd", "describe", "input_file", "make_image_dataset",
+           "make_raw_dataset", "normalise_phase_history", "open_dataset", "read_cphd", "read_gotcha", "read_image",
+           "read_phase_data", "read_raw", "read_sicd", "regularise_axis", "write_cphd", "write_dataset",
+           "write_gotcha", "write_json_atomic", "write_sicd", "write_text_atomic"]

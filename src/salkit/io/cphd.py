@@ -20,7 +20,7 @@ import xarray as xr
 
 from ..constants import SPEED_OF_LIGHT
 from ..errors import DataFileError
-from .datasets import atomic_path
+from .datasets import atomic_path, input_file
 from .ingest import normalise_phase_history
 
 NS = "http://api.nsgreg.nga.mil/schema/cphd/1.0.1"
@@ -243,9 +243,7 @@ def read_cphd(path: str | Path, channel: str | None = None) -> xr.Dataset:
         Not a CPHD file, TOA domain, bistatic geometry or a varying frequency sampling.
     """
     skcphd, wgs84 = _sarkit()
-    p = Path(path)
-    if not p.is_file():
-        raise DataFileError(f"{p}: file does not exist")
+    p = input_file(path)
     try:
         with open(p, "rb") as fh, skcphd.Reader(fh) as r:
             tree = r.metadata.xmltree
@@ -331,7 +329,7 @@ def run_checker(checker_cls, path: str | Path, **kw) -> dict:
     dict
         :func:`failures_by_severity` of the result.
     """
-    with open(path, "rb") as fh:
+    with open(input_file(path), "rb") as fh:
         con = checker_cls.from_file(fh, **kw)
         con.check()
     return failures_by_severity(con)

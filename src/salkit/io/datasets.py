@@ -320,6 +320,32 @@ def write_json_atomic(path: str | Path, obj: Any) -> Path:
     return write_text_atomic(path, json.dumps(clean(obj), indent=2, allow_nan=False) + "\n")
 
 
+def input_file(path: str | Path) -> Path:
+    """``path`` as an existing regular file to read, or a :class:`DataFileError` that says what it
+    is instead (missing, a directory, a device or pipe).
+
+    Parameters
+    ----------
+    path : str or Path
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    DataFileError
+    """
+    p = Path(path)
+    if p.is_dir():
+        raise DataFileError(f"{p}: is a directory, not a file")
+    if not p.exists():
+        raise DataFileError(f"{p}: file does not exist")
+    if not p.is_file():
+        raise DataFileError(f"{p}: is not a regular file")
+    return p
+
+
 def open_dataset(path: str | Path) -> xr.Dataset:
     """Open a salkit NetCDF file fully into memory, with clear errors for bad files.
 
@@ -336,9 +362,7 @@ def open_dataset(path: str | Path) -> xr.Dataset:
     DataFileError
         For a missing, unreadable or corrupt file (a corrupt variable is named).
     """
-    p = Path(path)
-    if not p.is_file():
-        raise DataFileError(f"{p}: file does not exist")
+    p = input_file(path)
     try:
         with xr.open_dataset(p, engine="h5netcdf") as ds:
             ds = ds.load()

@@ -18,7 +18,7 @@ import xarray as xr
 from ..errors import DataFileError
 import lazy_loader as _lazy
 from .ingest import normalise_phase_history
-from .datasets import atomic_path
+from .datasets import atomic_path, input_file
 _scipy_io = _lazy.load("scipy.io", suppress_warning=True)
 
 #: Accepted spellings of each field (first found wins), lower case.
@@ -56,9 +56,7 @@ def read_gotcha(path: str | Path, apply_af: bool = True) -> xr.Dataset:
         Unreadable file (v7.3 HDF5 included), missing fields, wrong shapes.
     """
 
-    p = Path(path)
-    if not p.is_file():
-        raise DataFileError(f"{p}: file does not exist")
+    p = input_file(path)
     try:
         m = _scipy_io.loadmat(p, squeeze_me=True, struct_as_record=False)
     except NotImplementedError:

@@ -21,6 +21,7 @@ import xarray as xr
 
 from ..constants import SPEED_OF_LIGHT
 from ..errors import DataFileError
+from .datasets import input_file
 from .cphd import DEFAULT_ORIGIN, _f, _xyz, local_frame, run_checker
 from .datasets import atomic_path
 
@@ -228,6 +229,7 @@ def read_sicd(path: str | Path) -> tuple[np.ndarray, "object"]:
     -------
     (ndarray complex64 (NumRows, NumCols), lxml.etree.ElementTree)
     """
+    path = input_file(path)
     import sarkit.sicd as sksicd
     try:
         with open(path, "rb") as fh, sksicd.NitfReader(fh) as r:

@@ -1,118 +1,13 @@
-"""Quality metrics: point-target IPR analysis against theory, entropy, contrast and SNR."""
-from __future__ import annotations
+"""Quality metrics: point-target IPR analysis against theory, entropy, contrast and SNR.
 
-import math
-
-import numpy as np
-import xarray as xr
-
+Modules: :mod:`~salkit.metrics.measure` (``measure(image)``, the image's phase model),
+:mod:`~salkit.metrics.pointtarget` (IRW, PSLR, ISLR), :mod:`~salkit.metrics.image` (entropy,
+contrast, noise, SNR against the truth), :mod:`~salkit.metrics.snr` (photon-limited SNR).
+"""
 from .image import contrast, entropy, noise_power, snr_against_truth
+from .measure import image_phase_model, measure
 from .pointtarget import analyse_point, ipr_1d
 from .snr import split_snr, stack_snr
-from ..signals.phase import wrap
-from ..constants import SPEED_OF_LIGHT
 
-
-def image_phase_model(image: xr.Dataset):
-    """The deterministic phase (rad) of a salkit image at plane coordinates, from its attributes.
-
-    ``aperture_centre`` (bp, pfa): 4 pi f_c (|X - p_c| - |p_c|)/c, p_c the aperture centre.
-    ``track`` (omega-k): 4 pi f_c (d(X) - R_s)/c, d the distance from the straight track.
-    Returns None when the attributes are missing.
-
-    Parameters
-    ----------
-    image : xarray.Dataset
-
-    Returns
-    -------
-    callable or None
-        ``fn(az, rg) -> rad``.
-    """
-    at = image.attrs
-    need = ("phase_reference", "aperture_center", "azimuth_axis", "range_axis", "carrier_frequency")
-    if not all(k in at for k in need):
-        return None
-    k = 4 * np.pi * float(at["carrier_frequency"]) / SPEED_OF_LIGHT
-    pc = np.asarray(at["aperture_center"], dtype=np.float64)
-    a = np.asarray(at["azimuth_axis"], dtype=np.float64)
-    r = np.asarray(at["range_axis"], dtype=np.float64)
-    kind = str(at["phase_reference"])
-
-    def fn(az, rg):
-        X = np.asarray(az, np.float64)[..., None] * a + np.asarray(rg, np.float64)[..., None] * r
-        rel = X - pc
-        if kind == "track":
-            d = np.linalg.norm(rel - (rel @ a)[..., None] * a, axis=-1)
-            d0 = np.linalg.norm(-pc - (-pc @ a) * a)
-            return k * (d - d0)
-        return k * (np.linalg.norm(rel, axis=-1) - np.linalg.norm(pc))
-    return fn
-
-
-def measure(image: xr.Dataset, truth: np.ndarray | None = None, reflectivity_phase: float | None = None,
-            details: bool = False) -> dict:
-    """Measure a focused image against theory.
-
-    Parameters
-    ----------
-    image : xarray.Dataset
-        A salkit image (``image`` variable, ``azimuth``/``range`` coordinates in m, resolution
-        and theory attributes as written by :func:`salkit.focus`).
-    truth : ndarray (T, 2), optional
-        Expected target positions (azimuth, range), m; default the file's ``target_*`` variables.
-    reflectivity_phase : float, optional
-        Phase (rad) of the brightest target's reflectivity; the processor should return it at the peak.
-    details : bool
-        Also return the upsampled cuts (keys starting with ``_``) for plotting.
-
-    Returns
-    -------
-    dict
-        Flat numbers: ``irw_range_m``, ``irw_azimuth_m``, ``pslr_*_db``, ``islr_*_db``,
-        ``peak_offset_*_m`` and each ``*_theory_*`` counterpart, plus entropy and contrast.
-    """
-    img = np.asarray(image["image"].values)
-    az = np.asarray(image["azimuth"].values, dtype=np.float64)
-    rg = np.asarray(image["range"].values, dtype=np.float64)
-    at = image.attrs
-    res_az = float(at.get("resolution_azimuth", 2 * (az[1] - az[0])))
-    res_rg = float(at.get("resolution_range", 2 * (rg[1] - rg[0])))
-    phase_fn = image_phase_model(image)
-    m = analyse_point(img, az, rg, res_az, res_rg, phase_fn=phase_fn)
-    out = {k: v for k, v in m.items() if details or not k.startswith("_")}
-    if truth is None and "target_azimuth" in image:
-        truth = np.stack([image["target_azimuth"].values, image["target_range"].values], axis=1)
-    if truth is not None and len(truth):
-        d = np.hypot(truth[:, 0] - m["peak_azimuth_m"], truth[:, 1] - m["peak_range_m"])
-        t = truth[int(np.argmin(d))]
-        out["peak_offset_azimuth_m"] = m["peak_azimuth_m"] - float(t[0])
-        out["peak_offset_range_m"] = m["peak_range_m"] - float(t[1])
-        out["peak_offset_azimuth_theory_m"] = 0.0
-        out["peak_offset_range_theory_m"] = 0.0
-        out["target_index"] = int(np.argmin(d))
-        out["target_azimuth_m"] = float(t[0])
-        out["target_range_m"] = float(t[1])
-    if truth is not None and len(truth) and phase_fn is not None:
-        # The deterministic image phase changes by 4 pi/lambda per metre of range, so the phase is
-        # read at the true target position: flattened peak phase plus the model phase there.
-        out["peak_phase_rad"] = float(wrap(m["peak_phase_flat_rad"] + float(phase_fn(out["target_azimuth_m"],
-                                                                                  out["target_range_m"]))))
-    out.pop("peak_phase_flat_rad", None)
-    if reflectivity_phase is not None:
-        out["peak_phase_error_rad"] = float(wrap(out["peak_phase_rad"] - reflectivity_phase))
-        out["peak_phase_error_theory_rad"] = 0.0
-    for ax in ("range", "azimuth"):
-        if f"irw_{ax}_theory" in at:
-            out[f"irw_{ax}_theory_m"] = float(at[f"irw_{ax}_theory"])
-        if "pslr_theory" in at:
-            out[f"pslr_{ax}_theory_db"] = float(at["pslr_theory"])
-            out[f"islr_{ax}_theory_db"] = float(at["islr_theory"])
-        out[f"resolution_{ax}_theory_m"] = float(at.get(f"resolution_{ax}", float("nan")))
-    out["entropy"] = entropy(img)
-    out["contrast"] = contrast(img)
-    return out
-
-
-__all__ = ["analyse_point", "contrast", "entropy", "ipr_1d", "measure", "noise_power",
-           "snr_against_truth"]
+__all__ = ["analyse_point", "contrast", "entropy", "image_phase_model", "ipr_1d", "measure", "noise_power",
+           "snr_against_truth", "split_snr", "stack_snr"]

@@ -12,7 +12,7 @@ from typing import Literal, Optional
 
 from pydantic import Field, model_validator
 
-from .models import PhaseError, _Frozen
+from .base import PhaseError, _Frozen
 
 
 class DLRequirements(_Frozen):

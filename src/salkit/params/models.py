@@ -7,17 +7,19 @@ otherwise (``*_deg`` in degrees).
 from __future__ import annotations
 
 import math
+import re
+from pathlib import Path
 from typing import Annotated, Literal, Optional, Union
 
-from pydantic import BaseModel, ConfigDict, Discriminator, Field, Tag, field_validator, model_validator
+import numpy as np
+from pydantic import Discriminator, Field, Tag, field_validator, model_validator
 
-from ..choices import ACCURACY, ALGORITHMS, ATMOSPHERE_MODELS, AUTOFOCUS_METHODS, CHIRP_CORRECTIONS, PGA_KERNELS, PLANES, STACK_MODES, WINDOWS
+from ..choices import (ACCURACY, ALGORITHMS, ATMOSPHERE_MODELS, AUTOFOCUS_METHODS, CHIRP_CORRECTIONS, PGA_KERNELS,
+                       PLANES, STACK_MODES, WINDOWS)
 from ..constants import SPEED_OF_LIGHT
 from ..tolerances import BP_UPSAMPLE
-
-
-class _Frozen(BaseModel):
-    model_config = ConfigDict(frozen=True, extra="forbid", validate_default=True, allow_inf_nan=False)
+from .base import PhaseError, _Frozen
+from .downlooking import DownlookingExperiment
 
 
 # --------------------------------------------------------------------------- waveform
@@ -108,31 +110,6 @@ class Waveform(_Frozen):
 
 
 # --------------------------------------------------------------------------- platform
-class PhaseError(_Frozen):
-    """A known per-pulse phase error common to all scatterers (residual motion, vibration), for
-    validating autofocus. ``amplitude`` is the peak (quadratic: at the aperture ends; sinusoidal)
-    or the RMS (random, a low-pass Gaussian process), rad."""
-
-    kind: Literal["quadratic", "sinusoidal", "random"] = "quadratic"
-    amplitude: float = Field(gt=0, le=1e3, description="rad")
-    cycles: float = Field(default=2.5, gt=0, description="sinusoidal: cycles across the aperture")
-    bandwidth: float = Field(default=4.0, gt=0, description="random: cycles across the aperture")
-    seed: int = Field(default=0, ge=0)
-
-    def values(self, n: int):
-        """The error (rad) on n pulses."""
-        t = np.linspace(-1, 1, n)
-        if self.kind == "quadratic":
-            return self.amplitude * t ** 2
-        if self.kind == "sinusoidal":
-            return self.amplitude * np.sin(np.pi * self.cycles * t)
-        rng = np.random.default_rng(self.seed)
-        r = rng.standard_normal(4 * n)
-        f = np.fft.fftfreq(4 * n)
-        r = np.real(np.fft.ifft(np.fft.fft(r) * (np.abs(f) <= self.bandwidth / (2 * n))))[:n]
-        return self.amplitude * (r - r.mean()) / r.std()
-
-
 class RelativeOrbit(_Frozen):
     """Two circular coplanar orbits (the SAL inside the target's) and the target's attitude: the
     true relative motion of a space-borne collection (:func:`salkit.geometry.orbit.relative_positions`)."""
@@ -462,10 +439,6 @@ class SpaceborneExperiment(_Frozen):
 
 
 # --------------------------------------------------------------------------- scenario
-from .downlooking import DownlookingExperiment  # noqa: E402  (it builds on the classes above)
-import numpy as np
-import re
-from pathlib import Path
 
 
 class _ScenarioBase(_Frozen):

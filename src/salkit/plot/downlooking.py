@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import _db, _save, _subplots
+from .canvas import _db, _save, _subplots
 import textwrap
 
 

@@ -12,7 +12,9 @@ from ..metrics.pointtarget import cut_curves
 from ..papers import published
 from ..plot import downlooking as dlplot
 from ..systems.result import RunResult
-from . import comparison_rows, downlooking_context, render, table3_cells
+from .contexts import downlooking_context, table3_cells
+from .judge import comparison_rows
+from .pages import render
 
 
 def write_airborne(result: RunResult, out: Path, page: dict | None = None) -> None:

@@ -1,30 +1,11 @@
 """Seed systems as compositions of the lower layers: each ``run(scenario, out_dir, progress)``
-returns a :class:`~salkit.systems.result.RunResult`; the report layer writes it."""
+returns a :class:`~salkit.systems.result.RunResult`; the report layer writes it.
+
+Modules: :mod:`~salkit.systems.registry` (``run_workflow``, ``WORKFLOWS``), one module per workflow
+(:mod:`~salkit.systems.airborne`, :mod:`~salkit.systems.turbulence`, :mod:`~salkit.systems.chirp`,
+:mod:`~salkit.systems.spaceborne`, :mod:`~salkit.systems.downlooking`), :mod:`~salkit.systems.result`.
+"""
+from .registry import WORKFLOWS, run_workflow
 from .result import RunResult
-import importlib
 
-
-def run_workflow(scenario, out_dir=None, progress=None) -> RunResult:
-    """Run the workflow a scenario names (``experiment.kind``; none: the foundation run).
-
-    Parameters
-    ----------
-    scenario : Scenario or DownlookingScenario
-    out_dir : path, optional
-        Where a workflow may keep checkpoints (the space-borne stack).
-    progress : callable, optional
-        ``progress(stage, done, total)``.
-
-    Returns
-    -------
-    RunResult
-    """
-
-    module = importlib.import_module(f"{__name__}.{WORKFLOWS[scenario.kind]}")  # only the one that runs
-    return module.run(scenario, out_dir, progress=progress)
-
-
-#: scenario kind -> the module of ``salkit.systems`` whose ``run`` is its workflow.
-WORKFLOWS = {"sal": "airborne", "turbulence_pga": "turbulence", "nonlinear_chirp": "chirp",
-             "spaceborne_geo": "spaceborne", "downlooking": "downlooking"}
-
+__all__ = ["RunResult", "WORKFLOWS", "run_workflow"]

@@ -5,12 +5,13 @@ outside file. It returns a :class:`~salkit.systems.result.RunResult`; the report
 """
 from __future__ import annotations
 
+import functools
 import time
 
 import numpy as np
 import xarray as xr
 
-from ..focus import focus, grid_of
+from ..focus import focus
 from ..geometry.collection import build_collection
 from ..geometry.sampling import check_sampling
 from ..metrics import measure, snr_against_truth
@@ -21,7 +22,7 @@ from .result import Progress, RunResult, flat_numbers, stage
 from ..geometry.collection import equalisation_efficiency
 from ..simulate import signal_scale
 from ..autofocus import autofocus, history_metrics
-from ..autofocus import pulse_autofocus, pulse_metrics
+from ..autofocus import pulse_focus
 
 
 def analyse_image(image: xr.Dataset, scenario: Scenario | None) -> tuple[dict, dict]:
@@ -132,26 +133,6 @@ def autofocus_image(image: xr.Dataset, scenario: Scenario | None, method: str | 
     return af, res, m
 
 
-def pulse_correct(raw: xr.Dataset, grid, chirp_correction: str = "none") -> tuple[xr.Dataset, dict]:
-    """Per-pulse autofocus of ``raw`` on ``grid``: the corrected phase history and its metrics.
-
-    Parameters
-    ----------
-    raw : xarray.Dataset
-    grid : Grid
-    chirp_correction : str
-
-    Returns
-    -------
-    (xarray.Dataset, dict)
-    """
-
-    corrected, res = pulse_autofocus(raw, grid, chirp_correction=chirp_correction)
-    m = pulse_metrics(res)
-    m["autofocus_s"] = float(corrected.attrs.get("autofocus_s", 0.0))
-    return corrected, m
-
-
 def run(scenario: Scenario, out_dir=None, progress: Progress = None) -> RunResult:
     """Simulate, focus, autofocus (if asked) and measure one scenario.
 
@@ -218,16 +199,15 @@ def focus_and_autofocus(raw: xr.Dataset, scenario: Scenario | None, data: dict, 
     """
     method = autofocus or (scenario.processing.autofocus if scenario is not None else "none")
     af_metrics, af_res = {}, None
-    if method == "pulse":
-        before = focus(raw, processing, scenario=scenario, **options)
-        data["image_focus.nc"] = before
-        cc = processing or (scenario.processing if scenario is not None else None)
-        raw, af_metrics = pulse_correct(raw, grid_of(before),  # the pixels of the image
-                                        cc.chirp_correction if cc is not None else "none")
     proc = processing or (scenario.processing if scenario is not None else None)
     alg = options.get("algorithm") or (proc.algorithm if proc is not None else "bp")
     unit = "levels merged" if alg == "ffbp" else "pulses focused"  # ffbp reports its levels
-    image = focus(raw, processing, scenario=scenario, progress=stage(progress, unit), **options)
+    if method == "pulse":  # the phase history is corrected on the pixels of the first image, then refocused
+        form = functools.partial(focus, processing=processing, scenario=scenario, **options)
+        image, data["image_focus.nc"], af_metrics = pulse_focus(
+            raw, form, proc.chirp_correction if proc is not None else "none", progress=stage(progress, unit))
+    else:
+        image = focus(raw, processing, scenario=scenario, progress=stage(progress, unit), **options)
     if method not in ("none", "pulse"):
         data["image_focus.nc"] = image
         image, af_res, af_metrics = autofocus_image(image, scenario, method, kernel)
@@ -271,5 +251,5 @@ def focus_file(raw: xr.Dataset, processing: Processing | None = None, progress: 
                      figures={"details": details, "autofocus": af_res, "timings": {"focus_s": t_focus}})
 
 
-__all__ = ["analyse_image", "autofocus_image", "focus_and_autofocus", "focus_file", "noise_metrics", "pulse_correct",
+__all__ = ["analyse_image", "autofocus_image", "focus_and_autofocus", "focus_file", "noise_metrics",
            "run"]

@@ -18,7 +18,7 @@ import xarray as xr
 from ..constants import SPEED_OF_LIGHT as C
 from ..focus.chirpcorr import (PhaseUnwrapError, correct_deskew, correct_paper, correct_resample,
                                estimate_nonlinear_phase, reference_beat, spectral_width)
-from ..focus.rangecomp import deskew
+from ..focus.dechirp import deskew
 from ..metrics.pointtarget import ipr_1d
 from ..params.models import Scenario
 from ..params.scenario import dump_scenario

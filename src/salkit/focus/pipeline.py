@@ -1,0 +1,324 @@
+"""Focusing a dataset: ``focus(raw, processing) -> image``, its memory estimate, and the image
+dataset's coordinates and collection geometry.
+
+``focus`` dispatches on the kind of the data (:data:`PROCESSORS`: SAL raw data and phase
+histories, down-looking SAL raw data); SAL images are formed by the registered formers
+(:data:`FORMERS`: ``bp`` backprojection, ``pfa`` polar format, ``omegak`` wavenumber domain),
+which share one signature and one normalisation (:mod:`salkit.focus.formers`).
+"""
+from __future__ import annotations
+
+from typing import Callable, Optional
+
+import numpy as np
+import xarray as xr
+
+from ..choices import ACCURACY, PLANES, check_choice
+from ..errors import ScenarioError
+from ..geometry.collection import truth_positions
+from ..io.datasets import make_image_dataset
+from ..metrics.pointtarget import window_ipr
+from ..params.models import Grid, Processing, Scenario
+from ..params.scenario import stored_scenario
+from ..resources import check_memory
+from ..signals.windows import Window
+from ..tolerances import GRID_SPACING_OF_RESOLUTION
+from ..simulate.echoes import memory_estimate as simulate_memory_estimate, signal_shape
+from . import bp, exact, ffbp, omegak, pfa  # noqa: F401  (each registers its former)
+from .downlooking import focus_downlooking_raw
+from .formers import ImageGrid, get_former
+from .phasehistory import PhaseHistory, default_grid, phase_history, theory_resolution
+
+#: Range-profile upsampling of ``bp`` at ``accuracy = "high"`` (-78 dB against the exact matched filter).
+HIGH_ACCURACY_UPSAMPLE = 32
+
+
+def memory_estimate(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str = "bp",
+                    raw: bool = True, cover_pixels: int | None = None) -> tuple[float, str]:
+    """Peak memory of focusing, bytes, from the sizes.
+
+    The signal (complex64, pulses x samples) once, and from raw data the deskew's 2N-point FFT
+    buffers and the phase history (6 more); the image's float32 accumulators and complex64 output
+    (24 bytes a pixel); PFA adds its formed (cover) grid and K-space buffer, omega-k its
+    Stolt-interpolated spectrum, FFBP its two buffers of polar grids (each up to 3 times the
+    pixels, complex64: margins and padding) and its range profiles (about twice the signal).
+
+    Parameters
+    ----------
+    n_pulses, n_samples : int
+        Signal shape.
+    nx, ny : int
+        Output grid, pixels.
+    algorithm : {"bp", "pfa", "omegak", "ffbp"}
+    raw : bool
+        Dechirped fast-time data (deskewed here) rather than a phase history.
+    cover_pixels : int, optional
+        PFA's formed grid when larger than nx x ny.
+
+    Returns
+    -------
+    (float, str)
+        Bytes, and the sizes that drive it.
+    """
+    sig = 8.0 * n_pulses * n_samples
+    px = float(nx) * ny
+    need = sig * (7 if raw else 2) + 24.0 * px
+    if algorithm == "pfa":
+        need += 24.0 * max(cover_pixels or 0, px) + sig
+    elif algorithm == "omegak":
+        need += 4 * sig + 16.0 * px
+    elif algorithm == "ffbp":
+        need += 2 * 3.0 * 8.0 * px + 2 * sig
+    return need, (f"focusing {n_pulses} pulses x {n_samples} samples onto {nx} x {ny} pixels "
+                  f"({algorithm})")
+
+
+def run_memory_estimate(scenario: Scenario) -> tuple[float, str]:
+    """Peak memory of :func:`salkit.simulate.simulate` then :func:`focus`: the larger of simulating and of focusing while the raw signal is
+    held (:func:`salkit.simulate.memory_estimate`, :func:`salkit.focus.memory_estimate`), bytes.
+
+    Parameters
+    ----------
+    scenario : Scenario
+
+    Returns
+    -------
+    (float, str)
+    """
+    sim, _ = simulate_memory_estimate(scenario)
+    P, N = signal_shape(scenario)
+    g = scenario.processing.grid
+    foc, _ = memory_estimate(P, N, g.nx, g.ny, scenario.processing.algorithm, raw=True)
+    return max(sim, foc + 8.0 * P * N), (f"simulating and focusing {P} pulses x {N} samples "
+                                         f"({8.0 * P * N / 2 ** 30:.3g} GiB of signal) onto {g.nx} x {g.ny} pixels")
+
+
+def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=None, algorithm: str | None = None,
+          grid: Grid | None = None, window_name: str | None = None, plane: str | None = None,
+          progress: Optional[Callable[[int, int], None]] = None, accuracy: str | None = None) -> xr.Dataset:
+    """Form a complex image from raw data or a phase history, with the processor its kind names.
+
+    Parameters
+    ----------
+    raw : xarray.Dataset
+        A salkit raw (dechirped) or phase-history dataset, or down-looking raw data
+        (``docs/data-format.md``).
+    processing : Processing, optional
+        Algorithm, window and grid. Default: the processing block of ``scenario``, else of the
+        scenario stored in ``raw``, else backprojection on :func:`default_grid`.
+    scenario : Scenario, optional
+        The scenario ``raw`` was simulated from, when the caller has it (saves parsing the copy
+        stored in ``raw.attrs``; used for the processing defaults and the true target positions).
+    algorithm : {"bp", "pfa", "omegak", "ffbp"}, optional
+        Overrides ``processing.algorithm``.
+    grid : Grid, optional
+        Overrides ``processing.grid``.
+    window_name : {"none", "hamming", "taylor"}, optional
+        Overrides ``processing.window``.
+    plane : {"slant", "ground"}, optional
+        Overrides the grid's image plane (the grid's size and spacing are kept).
+    progress : callable, optional
+        ``progress(done, total)`` in pulses.
+    accuracy : {"standard", "high"}, optional
+        Overrides ``processing.accuracy`` (high: bp at 32x profiles or more, ffbp on finer polar grids).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``image`` (azimuth, range) complex64, coordinates in metres from the scene centre,
+        normalised so that a unit-reflectance point at the beam centre peaks near 1.
+
+    Raises
+    ------
+    ScenarioError
+        For an unknown algorithm, a grid coarser than the resolution, or an algorithm that does not
+        fit the data (PFA on stripmap, omega-k on spotlight).
+    DataFileError
+        For inconsistent arrays.
+    ResourceError
+        When the estimated peak memory exceeds what is available.
+
+    Examples
+    --------
+    >>> image = focus(raw, algorithm="pfa")  # doctest: +SKIP
+    """
+    proc = PROCESSORS.get(str(raw.attrs.get("salkit_kind", "raw")), focus_sal)
+    return proc(raw, processing, scenario=scenario, algorithm=algorithm, grid=grid, window_name=window_name,
+                plane=plane, progress=progress, accuracy=accuracy)
+
+
+def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=None,
+              algorithm: str | None = None, grid: Grid | None = None, window_name: str | None = None,
+              plane: str | None = None, progress: Optional[Callable[[int, int], None]] = None,
+              accuracy: str | None = None) -> xr.Dataset:
+    """The SAL processor of :func:`focus` (raw dechirped data and phase histories): range
+    compression, then the registered former :func:`get_former` names. Parameters as :func:`focus`.
+
+    Returns
+    -------
+    xarray.Dataset
+
+    Parameters
+    ----------
+    raw, processing, scenario, algorithm, grid, window_name, plane, progress, accuracy
+        As :func:`focus`.
+    """
+    if scenario is None:
+        scenario = stored_scenario(raw.attrs)
+    if not isinstance(scenario, Scenario):
+        scenario = None
+    if processing is None and scenario is not None:
+        processing = scenario.processing
+    alg = algorithm or (processing.algorithm if processing else "bp")
+    get_former(alg)  # an unknown former is refused before any work
+    g0 = grid or (processing.grid if processing else None)
+    sig = raw["signal"]
+    need, what = memory_estimate(sig.shape[0], sig.shape[1], g0.nx if g0 else 256, g0.ny if g0 else 256, alg,
+                                 raw=raw.attrs.get("salkit_kind") == "raw")
+    check_memory(need, what, "use a smaller grid (--nx --ny) or fewer pulses")
+    ph = phase_history(raw, processing.chirp_correction if processing is not None else "none")
+    if plane is not None:
+        check_choice("plane", plane, PLANES)
+    g = grid or (processing.grid if processing else default_grid(ph, plane=plane or "slant"))
+    if plane is not None and g.plane != plane:
+        g = g.model_copy(update={"plane": plane})
+    p = processing or Processing(grid=g)
+    res = theory_resolution(ph, ImageGrid.of(ph, g).plane)
+    if g.dx > res["azimuth"] * GRID_SPACING_OF_RESOLUTION or g.dy > res["range"] * GRID_SPACING_OF_RESOLUTION:
+        raise ScenarioError("processing.grid", f"dx={g.dx:g}, dy={g.dy:g}",
+                            f"spacing must not exceed the resolution (azimuth {res['azimuth']:.4g} m, "
+                            f"range {res['range']:.4g} m)")
+    result, ig, win, used = form_image(ph, p, g, algorithm=alg, window_name=window_name, accuracy=accuracy,
+                                       progress=progress)
+    acc, upsample = used["accuracy"], used["range_upsample"]
+    M = ph.freq.size
+    wi = window_ipr(win.name, win.nbar, win.sll)
+    attrs = {
+        "algorithm": alg, "accuracy": acc, "range_upsample": upsample, "window": win.name, "plane": g.plane,
+        "wavelength": ph.wavelength, "carrier_frequency": float(ph.freq[M // 2]),
+        "bandwidth": res["bandwidth"], "mode": ph.mode,
+        "resolution_range": res["range"], "resolution_azimuth": res["azimuth"],
+        "irw_range_theory": float(wi["irw_factor"]) * res["range"],
+        "irw_azimuth_theory": float(wi["irw_factor"]) * res["azimuth"],
+        "pslr_theory": wi["pslr_db"], "islr_theory": wi["islr_db"],
+        "grid_dx": g.dx, "grid_dy": g.dy,
+        # stripmap pixels are focused about their own broadside: image phase follows the track
+        "phase_reference": "track" if (alg == "omegak" or ph.mode == "stripmap") else "aperture_centre",
+        "aperture_center": ph.center_position,
+    }
+    attrs.update({k: v for k, v in result.info.items() if k.startswith(("support_", "cover_", "illuminated_", "ffbp_", "pfa_"))})
+    for k in ("frequency_fit_residual_steps", "frequency_fit_residual", "phase_sign_converted"):
+        if k in ph.attrs:
+            attrs[k] = ph.attrs[k]
+    if "scenario" in raw.attrs:
+        attrs["scenario"] = raw.attrs["scenario"]
+    truth = None
+    if scenario is not None and scenario.scene.points:
+        truth = truth_positions(scenario.model_copy(update={"processing": scenario.processing.model_copy(
+            update={"grid": g})}))
+    attrs["frequency_min"], attrs["frequency_max"] = float(ph.freq[0]), float(ph.freq[-1])
+    if "origin_llh" in ph.attrs:
+        attrs["origin_llh"] = np.asarray(ph.attrs["origin_llh"], np.float64)
+    out = make_image_dataset(result.image, ig.azimuth, ig.range, ig.plane, attrs, truth)
+    return add_collection_geometry(out, raw, ph)
+
+
+def form_image(ph: PhaseHistory, processing: Processing, grid: Grid, *, algorithm: str | None = None,
+               window_name: str | None = None, accuracy: str | None = None,
+               progress: Optional[Callable[[int, int], None]] = None):
+    """Form the image of a phase history with a scenario's processing settings: the former, window
+    and accuracy they name (each overridable), on ``grid``. The one place these settings become a
+    former call (:func:`focus_sal`, and the sub-images of :mod:`salkit.stack`, which need no dataset).
+
+    Parameters
+    ----------
+    ph : PhaseHistory
+    processing : Processing
+    grid : Grid
+        Output grid (m).
+    algorithm, window_name, accuracy : str, optional
+        Overrides of ``processing.algorithm``, ``processing.window`` and ``processing.accuracy``.
+    progress : callable, optional
+        ``progress(done, total)`` in pulses.
+
+    Returns
+    -------
+    (ImageResult, ImageGrid, Window, dict)
+        The former's result, the grid it was formed on, the window, and the settings used
+        (``algorithm``, ``accuracy``, ``range_upsample``).
+    """
+    alg = algorithm or processing.algorithm
+    acc = accuracy or processing.accuracy
+    check_choice("processing.accuracy", acc, ACCURACY)
+    upsample = (processing.range_upsample if acc == "standard"
+                else max(processing.range_upsample, HIGH_ACCURACY_UPSAMPLE))
+    win = Window(window_name or processing.window, processing.taylor_nbar, processing.taylor_sll)
+    ig = ImageGrid.of(ph, grid)
+    result = get_former(alg)(ph, ig, win, upsample=upsample, accuracy=acc, progress=progress)
+    return result, ig, win, {"algorithm": alg, "accuracy": acc, "range_upsample": upsample}
+
+
+def _focus_downlooking(raw: xr.Dataset, processing=None, *, scenario=None, progress=None, **options) -> xr.Dataset:
+    """The down-looking processor of :func:`focus`: its processing is in the scenario it carries."""
+    for name, v in (("processing", processing), *options.items()):
+        if v is not None:
+            raise ScenarioError(f"--{name.replace('_name', '')}", v, "does not apply to down-looking SAL raw data "
+                                "(its processing is in the scenario the file carries)")
+    return focus_downlooking_raw(raw, progress=progress)
+
+
+#: data kind (``salkit_kind``) -> processor, all ``f(raw, processing, *, scenario, algorithm,
+#: grid, window_name, plane, progress) -> xr.Dataset``.
+PROCESSORS = {"raw": focus_sal, "phase_history": focus_sal, "raw_downlooking": _focus_downlooking}
+
+
+def grid_of(image: xr.Dataset) -> Grid:
+    """The :class:`~salkit.params.models.Grid` an image was formed on (size, spacing, plane, centre).
+
+    Parameters
+    ----------
+    image : xarray.Dataset
+        salkit image.
+
+    Returns
+    -------
+    Grid
+    """
+    az, rg = image["azimuth"].values, image["range"].values
+    return Grid(nx=az.size, ny=rg.size, dx=float(az[1] - az[0]), dy=float(rg[1] - rg[0]),
+                plane=str(image.attrs.get("plane", "slant")),
+                center=(float(az[az.size // 2]), float(rg[rg.size // 2])))
+
+
+def add_collection_geometry(image: xr.Dataset, raw: xr.Dataset, ph: PhaseHistory) -> xr.Dataset:
+    """Carry the per-pulse antenna positions and times of the collection with its image
+    (variables ``collection_position`` (pulse, xyz), m, and ``collection_time`` (pulse,), s), so
+    that exports (SICD) need no other file. Without pulse times in the data, the pulse index
+    times 1 ms stands in and ``collection_time_nominal = 1``.
+
+    Parameters
+    ----------
+    image : xarray.Dataset
+        The formed image.
+    raw : xarray.Dataset
+        The data it was formed from (for ``slow_time``).
+    ph : PhaseHistory
+        Its phase history (positions, m).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``image`` with ``collection_position`` and ``collection_time``.
+    """
+    P = ph.positions.shape[0]
+    t = None
+    if "slow_time" in raw.coords and raw.sizes.get("slow_time") == P:
+        t = np.asarray(raw["slow_time"].values, np.float64)
+    nominal = t is None or raw.attrs.get("slow_time_units") == "pulse"
+    if nominal:
+        t = np.arange(P, dtype=np.float64) * 1e-3
+    image = image.assign(collection_position=(("pulse", "xyz"), ph.positions, {"units": "m"}),
+                         collection_time=(("pulse",), t, {"units": "s"}))
+    image = image.assign_coords(xyz=("xyz", ["x", "y", "z"]))
+    image.attrs["collection_time_nominal"] = int(nominal)
+    return image

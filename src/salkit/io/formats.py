@@ -1,0 +1,51 @@
+"""Reading a raw or phase-history file of any supported format by its suffix
+(:func:`read_phase_data`), and xarray's NetCDF engine order (h5netcdf first: it decodes salkit's
+complex variables)."""
+from pathlib import Path as _P
+
+import xarray as _xr
+
+from ..errors import DataFileError as _E
+from .cphd import read_cphd
+from .datasets import read_raw
+from .gotcha import read_gotcha
+
+PHASE_SUFFIXES = {".nc": "NetCDF", ".h5": "NetCDF", ".cphd": "CPHD", ".mat": "GOTCHA .mat"}
+
+
+def read_phase_data(path) -> "_xr.Dataset":
+    """Read a raw or phase-history file of any supported format, chosen by the suffix:
+    ``.nc``/``.h5`` (salkit NetCDF), ``.cphd`` (CPHD 1.0), ``.mat`` (GOTCHA layout).
+
+    Parameters
+    ----------
+    path : str or Path
+
+    Returns
+    -------
+    xarray.Dataset
+        ``salkit_kind`` "raw" or "phase_history".
+
+    Raises
+    ------
+    DataFileError
+        Unknown suffix or an unusable file.
+    """
+    suf = _P(path).suffix.lower()
+    if suf == ".cphd":
+        return read_cphd(path)
+    if suf == ".mat":
+        return read_gotcha(path)
+    if suf in (".nc", ".h5", ".nc4", ".hdf5"):
+        return read_raw(path)
+    raise _E(f"{path}: unknown suffix {suf!r}; salkit reads {', '.join(PHASE_SUFFIXES)}")
+
+
+# Complex variables are HDF5 compound types that only the h5netcdf engine decodes as complex.
+# When netCDF4-python is also installed, make plain xarray.open_dataset try h5netcdf first.
+try:  # pragma: no cover - depends on the xarray version
+    _order = _xr.get_options().get("netcdf_engine_order")
+    if _order and _order[0] != "h5netcdf":
+        _xr.set_options(netcdf_engine_order=("h5netcdf",) + tuple(e for e in _order if e != "h5netcdf"))
+except Exception:  # noqa: BLE001
+    pass

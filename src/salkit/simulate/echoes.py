@@ -1,0 +1,237 @@
+"""SAL stretch echoes: the fast-time axis, the echo of scatterers seen from a collection (the
+kernels' driver), photon noise, the signal scale and the size of the raw data."""
+from __future__ import annotations
+
+import math
+from typing import Callable, Optional
+
+import numpy as np
+
+from ..errors import ScenarioError
+from ..geometry.collection import Collection, beam_gain_table, pulse_count
+from ..geometry.sampling import resolution_theory
+from ..params.models import Noise, Scenario
+from .kernels import simulate_exact, simulate_linear
+
+ProgressFn = Optional[Callable[[int, int], None]]
+
+
+def fast_time_axis(n: int, adc_rate: float) -> np.ndarray:
+    """Fast-time sample times relative to the reference delay, s: (i - n//2)/adc_rate.
+
+    Parameters
+    ----------
+    n : int
+    adc_rate : float
+        Hz.
+
+    Returns
+    -------
+    float64 (n,)
+        s.
+
+    Examples
+    --------
+    >>> fast_time_axis(4, 2.0).tolist()
+    [-1.0, -0.5, 0.0, 0.5]
+    """
+    return (np.arange(n) - n // 2) / adc_rate
+
+
+_NO_PATH = (np.zeros((0, 2, 2), np.float32), np.zeros(0), np.zeros((0, 2)), 1.0, np.array([0.0, 0.0, 1.0]),
+            np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0]))
+
+
+def _path_args(path):
+    if path is None:
+        return _NO_PATH
+    return (np.ascontiguousarray(path.screens, np.float32), np.asarray(path.z, float),
+            np.asarray(path.origin, float), float(path.dx), path.u0, path.a, path.b)
+
+
+def echo_signal(collection: Collection, scatter_pos: np.ndarray, scatter_amp: np.ndarray,
+                scenario: Scenario, fast_time: np.ndarray, chunk: int = 256,
+                progress: ProgressFn = None, path=None, gains: np.ndarray | None = None) -> np.ndarray:
+    """Noise-free dechirped echoes (P, N) complex64 of the given scatterers.
+
+    Parameters
+    ----------
+    collection : Collection
+        Per-pulse geometry.
+    scatter_pos : ndarray (S, 3)
+        Scatterer positions, m (float64).
+    scatter_amp : ndarray (S,)
+        Complex reflectivities (amplitude per sample before noise scaling).
+    scenario : Scenario
+    fast_time : ndarray (N,)
+        Sample times relative to the reference delay, s (uniform).
+    chunk : int
+        Pulses per kernel call (bounds memory of the intermediate float32 planes).
+    progress : callable, optional
+        Called as ``progress(done_pulses, total_pulses)``.
+    path : TurbulentPath, optional
+        Frozen turbulence screens; each echo carries its two-way path phase.
+    gains : complex ndarray (P, S), optional
+        Two-way complex gain of each scatterer at each pulse, in place of the beam pattern (wave
+        optics, :func:`salkit.atmosphere.beam.two_way_gains`).
+
+    Returns
+    -------
+    complex64 (P, N)
+    """
+    w, p = scenario.waveform, scenario.platform
+    pargs = _path_args(path)
+    P, N = collection.n_pulses, fast_time.size
+    out = np.empty((P, N), np.complex64)
+    table, dsin = beam_gain_table(w.wavelength, p.real_aperture)
+    pos = np.ascontiguousarray(scatter_pos, dtype=np.float64)
+    are = np.ascontiguousarray(scatter_amp.real, dtype=np.float64)
+    aim = np.ascontiguousarray(scatter_amp.imag, dtype=np.float64)
+    t0 = float(fast_time[0])
+    dt = float(fast_time[1] - fast_time[0]) if N > 1 else 1.0
+    exact = (not w.is_linear) or p.intra_pulse_motion
+    coeffs = np.asarray(w.nonlinearity, dtype=np.float64)
+    if w.phase_error is not None:
+        try:
+            et, ev = w.phase_error.table(w.pulse_width)
+        except ValueError as err:
+            raise ScenarioError("waveform.phase_error", w.phase_error.file or w.phase_error.kind, str(err)) from None
+        etab = (float(et[0]), float(et[1] - et[0]), np.ascontiguousarray(ev, dtype=np.float64))
+    else:
+        etab = (0.0, 1.0, np.zeros(0))
+    no_gain = np.zeros((0, 0), np.complex128)
+    for a in range(0, P, chunk):
+        b = min(P, a + chunk)
+        g = no_gain if gains is None else np.ascontiguousarray(gains[a:b], np.complex128)
+        re = np.zeros((b - a, N), np.float32)
+        im = np.zeros((b - a, N), np.float32)
+        args_geo = (np.ascontiguousarray(collection.positions[a:b]),)
+        if exact:
+            simulate_exact(args_geo[0], np.ascontiguousarray(collection.velocity[a:b]),
+                           np.ascontiguousarray(collection.reference_range[a:b]),
+                           np.ascontiguousarray(collection.boresight[a:b]), pos, are, aim, t0, dt,
+                           w.carrier_frequency, w.rate, w.pulse_width, coeffs, p.intra_pulse_motion,
+                           table, dsin, re, im, *pargs, g, *etab)
+        else:
+            simulate_linear(args_geo[0], np.ascontiguousarray(collection.reference_range[a:b]),
+                            np.ascontiguousarray(collection.boresight[a:b]), pos, are, aim, t0, dt,
+                            w.carrier_frequency, w.rate, w.pulse_width, table, dsin, re, im, *pargs, g)
+        out[a:b].real = re
+        out[a:b].imag = im
+        if progress is not None:
+            progress(b, P)
+    return out
+
+
+def photon_noise(signal: np.ndarray, noise: Noise, rng: np.random.Generator) -> np.ndarray:
+    """Add photon-limited heterodyne noise to a signal in shot-noise units (in place, returned).
+
+    ``gaussian``: the strong-LO limit, complex white noise of unit variance per sample.
+    ``poisson``: photocounts of the I and Q outputs of a 90-degree hybrid (seed 001 eq 8),
+    Poisson with means eta_d (n_L + |U|^2)/2 + sqrt(eta_d n_L) Re/Im(s), LO DC removed and
+    normalised by sqrt(eta_d n_L); n_L is the LO photon number per sample.
+
+    Parameters
+    ----------
+    signal : complex64 (P, N)
+        In shot-noise units; modified in place.
+    noise : Noise
+    rng : numpy.random.Generator
+
+    Returns
+    -------
+    complex64 (P, N)
+        ``signal``.
+    """
+    P, N = signal.shape
+    if noise.model == "gaussian":
+        for a in range(0, P, 512):
+            b = min(P, a + 512)
+            z = rng.standard_normal((b - a, N, 2), dtype=np.float32) * np.float32(math.sqrt(0.5))
+            signal[a:b] += z[..., 0] + 1j * z[..., 1]
+        return signal
+    eta_d = noise.quantum_efficiency
+    n_l = noise.lo_photons / N
+    dc = eta_d * n_l / 2.0
+    g = math.sqrt(eta_d * n_l)
+    for a in range(0, P, 256):
+        b = min(P, a + 256)
+        s = signal[a:b].astype(np.complex128)
+        u2 = np.abs(s) ** 2 / noise.efficiency  # |U|^2 photons
+        mean_i = dc + eta_d * u2 / 2.0 + g * s.real
+        mean_q = dc + eta_d * u2 / 2.0 + g * s.imag
+        ci = rng.poisson(np.maximum(mean_i, 0.0))
+        cq = rng.poisson(np.maximum(mean_q, 0.0))
+        signal[a:b] = ((ci - dc) + 1j * (cq - dc)) / g
+    return signal
+
+
+def signal_shape(scenario: Scenario) -> tuple[int, int]:
+    """Pulses and an upper bound on the samples per pulse of :func:`simulate`, without building
+    anything: (pulse count, (ADC gate or pulse width) x ADC rate + 1).
+
+    Parameters
+    ----------
+    scenario : Scenario
+
+    Returns
+    -------
+    (int, int)
+    """
+    gate = scenario.receiver.gate or scenario.waveform.pulse_width
+    return pulse_count(scenario), int(gate * scenario.receiver.adc_rate) + 1
+
+
+def memory_estimate(scenario: Scenario) -> tuple[float, str]:
+    """Peak memory of simulating a scenario, bytes, from its sizes (nothing is built).
+
+    The complex64 signal twice (noise, the dataset), 2 kB per pulse (geometry and the sampling
+    check's probes), 48 bytes per scatterer.
+
+    Parameters
+    ----------
+    scenario : Scenario
+
+    Returns
+    -------
+    (float, str)
+        Bytes, and the sizes that drive it (for messages).
+    """
+    P, N = signal_shape(scenario)
+    sc = scenario.scene
+    n_scat = len(sc.points)
+    if sc.extended is not None:
+        n_scat += int((sc.extended.extent[0] / sc.extended.spacing + 1) * (sc.extended.extent[1] / sc.extended.spacing + 1))
+    sig = 8.0 * P * N
+    need = 2 * sig + 2048.0 * P + 48.0 * n_scat
+    return need, f"simulating {P} pulses x {N} samples ({sig / 2 ** 30:.3g} GiB of signal), {n_scat} scatterers"
+
+
+def signal_scale(scenario: Scenario, collection: Collection, n_samples: int) -> float:
+    """Amplitude per sample of a unit-reflectance scatterer, in shot-noise units when noise is on.
+
+    With noise, a unit cell delivers N_s photons over the aperture, i.e. N_s/(N * P_ap) per sample,
+    so that the focused cell's carrier-to-noise ratio is eta*N_s.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    collection : Collection
+    n_samples : int
+
+    Returns
+    -------
+    float
+    """
+    nz = scenario.receiver.noise
+    if not nz.enabled:
+        return 1.0
+    p, w = scenario.platform, scenario.waveform
+    if p.mode == "spotlight":
+        n_ap = collection.n_pulses
+    else:
+        res = resolution_theory(scenario, collection)
+        n_ap = max(res["aperture_length"] / (p.speed / w.prf), 1.0)
+    return math.sqrt(nz.efficiency * nz.signal_photons / (n_samples * n_ap))
+
+
