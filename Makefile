@@ -1,4 +1,5 @@
 # Two commands on a fresh clone: `make demo` and `make test`. Each creates .venv itself.
+# `make bench` runs every benchmark, `make bench NAME=ffbp` one (benchmarks/<name>.py).
 PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
@@ -26,7 +27,7 @@ docs-figures: $(STAMP)
 
 bench: $(STAMP)
 	$(PY) -m pip install --quiet -e ".[bench]"
-	$(PY) benchmarks/run_all.py
+	$(PY) benchmarks/run_all.py $(NAME)
 
 clean:
 	rm -rf $(VENV) results

@@ -1,4 +1,5 @@
-"""Shared benchmark problems (built from salkit's own simulator, so every method sees the same data)."""
+"""Shared benchmark problems (built from salkit's own simulator, so every method sees the same data;
+the FFBP problem from a closed-form phase history) and the best-of timer."""
 from __future__ import annotations
 
 import time
@@ -38,3 +39,37 @@ def spotlight_problem(n_pix: int, n_pulses: int, standoff: float = 4000.0, altit
         "processing": {"algorithm": "bp", "grid": {"nx": n_pix, "ny": n_pix, "dx": 0.015, "dy": 0.015}},
     })
     return sc, phase_history(simulate(sc))
+
+
+
+def synthetic_collection(P, M, R=5000.0, lam=1.55e-6, res=0.02):
+    """A spotlight phase history of three points at range R (float64 geometry), P pulses x M
+    frequencies, for the given resolution in both dimensions."""
+    fc = C / lam
+    B = C / (2 * res)
+    f = fc + (np.arange(M) - M // 2) * B / M
+    L = lam * R / (2 * res)
+    y = np.linspace(-L / 2, L / 2, P)
+    pos = np.stack([y, np.full(P, -R * 0.8), np.full(P, R * 0.6)], axis=1)
+    ref = np.linalg.norm(pos, axis=1)
+    ph = np.zeros((P, M), np.complex64)
+    for t in np.array([[0, 0, 0], [0.3, 0.2, 0], [-0.5, -0.4, 0]]):
+        dR = np.linalg.norm(pos - t, axis=1) - ref
+        ph += np.exp(-4j * np.pi * f[None, :] * dR[:, None] / C).astype(np.complex64)
+    return ph, f, pos, ref, res
+
+
+def ffbp_problem(n):
+    """The synthetic collection of N pulses and its N x N grid at 0.8 of the resolution, with the
+    FFBP kernels compiled on a small part of it."""
+    from salkit.focus.ffbp import ffbp
+    from salkit.focus.formers import ImageGrid
+    from salkit.geometry.collection import grid_axes, plane_from
+    from salkit.params import Grid
+    ph, f, pos, ref, res = synthetic_collection(n, n)
+    g = Grid(nx=n, ny=n, dx=0.8 * res, dy=0.8 * res)
+    plane = plane_from(np.array([1.0, 0, 0]), pos[n // 2], "slant")
+    az, rg = grid_axes(g)
+    M = ph.shape[1]
+    ffbp(ph[:256], f, pos[:256], ref[:256], ImageGrid(plane, az[:32], rg[:32], g), np.ones(256), np.ones(M))  # every level compiled
+    return ph, f, pos, ref, ImageGrid(plane, az, rg, g)

@@ -14,7 +14,7 @@ def test_every_demo_report_resolves(tmp_path):
     every page names the salkit version and has its Files section, the index links every run."""
     import re
     from salkit import __version__
-    from salkit.cli.main import _examples_dir
+    from salkit.cli.options import _examples_dir
     assert main(["--out", str(tmp_path)]) == 0
     names = sorted(f.stem for f in _examples_dir().glob("*.yaml"))
     index = (tmp_path / "index.html").read_text()

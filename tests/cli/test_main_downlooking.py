@@ -7,7 +7,7 @@ import pytest
 from salkit.io import read_image
 
 from ..conftest import EXAMPLES
-from .test_main import KEYS, salkit
+from .conftest import KEYS, salkit
 
 EX = EXAMPLES / "downlooking_3d.yaml"
 SMALL = ["--set", "scene.extended.extent=[0.5,0.6]", "--set", "experiment.terrain.extent=[0.5,0.5]"]

@@ -40,7 +40,8 @@ def main(argv=None) -> int:
     from ..params import load_scenario
     from ..report import run_scenario
     from ..report.index import write_index
-    from .main import _Bar, _examples_dir, print_headline, show_warning
+    from .app import _Bar, show_warning
+    from .options import _examples_dir, print_headline
     import warnings
     warnings.showwarning = show_warning
 

@@ -1,0 +1,116 @@
+"""Commands on data files: ``salkit focus`` (raw or phase history into an image and its report),
+``salkit export`` (an image as SICD) and ``salkit convert`` (phase histories between formats)."""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from .app import _Bar, _command_line, _guard, app, out
+from .options import _check_out_file, _export_sicd, _grid, _origin, _report_check, _summary
+
+
+@app.command()
+@_guard
+def focus(raw: Path = typer.Argument(..., metavar="RAW", help="raw or phase-history file: .nc, .cphd or GOTCHA .mat"),
+          out_dir: Path = typer.Option(..., "--out", metavar="DIR", help="output folder (complete or absent after the run)"),
+          algorithm: Optional[str] = typer.Option(None, metavar="NAME", help="bp | pfa | omegak | ffbp (fast factorised backprojection, spotlight) | exact (float64 matched filter, the truth; small grids)"),
+          accuracy: Optional[str] = typer.Option(None, metavar="LEVEL", help="standard | high (interferometric: bp -75.5 to -78.5 dB, ffbp -64 to -73 dB against the exact matched filter)"),
+          window: Optional[str] = typer.Option(None, metavar="NAME", help="amplitude window: none | hamming | taylor"),
+          nx: Optional[int] = typer.Option(None, metavar="PIXELS", help="grid size along azimuth, pixels (with --ny, --dx, --dy)"),
+          ny: Optional[int] = typer.Option(None, metavar="PIXELS", help="grid size along range, pixels"),
+          dx: Optional[float] = typer.Option(None, metavar="METRES", help="pixel spacing along azimuth, m (at most the resolution)"),
+          dy: Optional[float] = typer.Option(None, metavar="METRES", help="pixel spacing along range, m (at most the resolution)"),
+          plane: Optional[str] = typer.Option(None, metavar="NAME", help="image plane: slant | ground (alone: the default grid in that plane)"),
+          autofocus: Optional[str] = typer.Option(None, metavar="NAME", help="none | pga | min-entropy (on the image) | pulse (one phase per pulse)"),
+          kernel: Optional[str] = typer.Option(None, metavar="NAME", help="PGA phase-gradient kernel: pd | lumv | ev"),
+          sicd: bool = typer.Option(False, "--sicd", help="also write the image as SICD (image.nitf), checked by sarkit"),
+          overwrite: bool = typer.Option(False, "--overwrite", help="replace a non-empty --out once the new run is complete")):
+    """Focus a raw file (.nc, .cphd or GOTCHA .mat) into image.nc, metrics.json, figures and report.html."""
+    from ..choices import ACCURACY, ALGORITHMS, AUTOFOCUS_METHODS, PGA_KERNELS, PLANES, WINDOWS, check_choice
+    from ..report import write_run
+    from ..systems.airborne import focus_file
+    for opt, v, allowed in (("--algorithm", algorithm, ALGORITHMS), ("--accuracy", accuracy, ACCURACY),
+                            ("--window", window, WINDOWS),
+                            ("--autofocus", autofocus, AUTOFOCUS_METHODS), ("--kernel", kernel, PGA_KERNELS),
+                            ("--plane", plane, PLANES)):
+        if v is not None:
+            check_choice(opt, v, allowed)
+    from ..io import open_dataset, read_phase_data
+    if raw.suffix.lower() in (".cphd", ".mat"):
+        probe = None
+    else:
+        probe = open_dataset(raw)
+    from ..io.runfolder import RunFolder
+    grid = _grid(nx, ny, dx, dy, plane or "slant")
+    if probe is not None and probe.attrs.get("salkit_kind") == "raw_downlooking":
+        from .. import plot
+        from ..focus import focus as form_image
+        from ..io import write_dataset
+        image = form_image(probe, algorithm=algorithm, window_name=window, grid=grid, plane=plane, accuracy=accuracy)
+        with RunFolder(out_dir, overwrite=overwrite) as tmp:
+            write_dataset(image, tmp / "image.nc")
+            plot.image_db(image, tmp / "image.png", title="DL-SAL eq-19 image")
+        globals()["out"].print(f"wrote {Path(out_dir) / 'image.nc'}")
+        return
+    ds = read_phase_data(raw)
+    if grid is None and plane is not None:
+        src = "the scenario stored in the file" if "scenario" in ds.attrs else "the default (256 x 256 at 0.8 of the resolution)"
+        out.print(f"--plane {plane} without --nx/--ny/--dx/--dy: grid size and spacing from {src}, "
+                  f"in the {plane} plane", highlight=False)
+    RunFolder(out_dir, overwrite=overwrite)._check_target()  # before any work
+    with RunFolder(out_dir, overwrite=overwrite) as tmp:
+        with _Bar() as bar:
+            m = write_run(focus_file(ds, algorithm=algorithm, window_name=window, grid=grid, progress=bar,
+                                     autofocus=autofocus, kernel=kernel, plane=plane, accuracy=accuracy), tmp,
+                          command=_command_line())
+        if sicd:
+            _export_sicd(tmp / "image.nc", tmp / "image.nitf", None)
+    _summary(m, out_dir)
+
+
+@app.command()
+@_guard
+def export(image: Path = typer.Argument(..., metavar="IMAGE.nc", help="salkit image file (image.nc of a run)"),
+           dst: Path = typer.Argument(..., metavar="DST.nitf", help="SICD file to write (.nitf or .ntf)"),
+           origin: Optional[str] = typer.Option(None, metavar="LAT,LON,HAE", help="scene centre as LAT,LON,HAE (deg, deg, m); default "
+                                                "the image's origin_llh, else 0,0,0"),
+           overwrite: bool = typer.Option(False, "--overwrite", help="replace an existing file")):
+    """Export a focused image as SICD 1.3.0 (NITF), metadata from the image and its collection."""
+    from ..errors import ScenarioError
+    _check_out_file(dst, overwrite, "dst")
+    if dst.suffix.lower() not in (".nitf", ".ntf"):
+        raise ScenarioError("dst", str(dst), "SICD files end in .nitf or .ntf")
+    _export_sicd(image, dst, origin)
+
+
+@app.command()
+@_guard
+def convert(src: Path = typer.Argument(..., metavar="SRC", help="input: .nc (raw or phase history), .cphd or .mat (GOTCHA)"),
+            dst: Path = typer.Argument(..., metavar="DST", help="output: .nc (phase history), .cphd or .mat"),
+            origin: Optional[str] = typer.Option(None, metavar="LAT,LON,HAE", help="scene centre for CPHD as LAT,LON,HAE (deg, deg, m); "
+                                                 "default the file's origin_llh, else 0,0,0"),
+            check: bool = typer.Option(True, help="run sarkit's consistency checker on a written CPHD"),
+            overwrite: bool = typer.Option(False, "--overwrite", help="replace an existing file")):
+    """Convert phase histories between salkit NetCDF, CPHD and the GOTCHA .mat layout."""
+    _check_out_file(dst, overwrite, "dst")
+    from ..errors import ScenarioError
+    from ..focus import range_compress
+    from ..io import PHASE_SUFFIXES, check_cphd, read_phase_data, write_cphd, write_dataset, write_gotcha
+    suf = dst.suffix.lower()
+    if suf not in PHASE_SUFFIXES:
+        raise ScenarioError("dst", str(dst), f"suffix must be one of {', '.join(PHASE_SUFFIXES)}")
+    llh = _origin(origin)
+    ds = read_phase_data(src)
+    ph = range_compress(ds) if ds.attrs.get("salkit_kind") == "raw" else ds
+    if suf == ".cphd":
+        write_cphd(ph, dst, origin=llh)
+        if check:
+            _report_check(check_cphd(dst))
+            out.print("sarkit CPHD consistency check: 0 errors", highlight=False)
+    elif suf == ".mat":
+        write_gotcha(ph, dst)
+    else:
+        write_dataset(ph, dst)
+    out.print(f"wrote {dst} ({ph.sizes['slow_time']} pulses x {ph.sizes['frequency']} frequencies)")

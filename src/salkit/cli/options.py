@@ -1,0 +1,123 @@
+"""Helpers the commands share: the output-file and grid options, the scene origin, the checks
+before any work, the headline printed after a run, sarkit's checks reported."""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from .app import err, out
+
+
+def _examples_dir() -> Path:
+    from ..params.scenario import examples_dir
+    return examples_dir()
+
+
+def _grid(nx, ny, dx, dy, plane):
+    from pydantic import ValidationError
+
+    from ..errors import ScenarioError
+    from ..params.models import Grid
+    if nx is None and ny is None and dx is None and dy is None:
+        return None
+    if None in (nx, ny, dx, dy):
+        given = ", ".join(f"--{k}={v}" for k, v in zip(("nx", "ny", "dx", "dy"), (nx, ny, dx, dy)) if v is not None)
+        missing = ", ".join(f"--{k}" for k, v in zip(("nx", "ny", "dx", "dy"), (nx, ny, dx, dy)) if v is None)
+        raise ScenarioError("--nx/--ny/--dx/--dy", given,
+                            f"a grid needs all four options or none; missing {missing}")
+    try:
+        return Grid(nx=nx, ny=ny, dx=dx, dy=dy, plane=plane)
+    except ValidationError as e:
+        f = e.errors()[0]
+        raise ScenarioError(f"--{f['loc'][0]}", f.get("input"), f["msg"]) from None
+
+
+def _check_out_file(path: Path, overwrite: bool, field: str = "--out") -> None:
+    from ..errors import ScenarioError
+    if str(path).strip() in ("", "."):
+        raise ScenarioError(field, str(path), "must name a file")
+    if path.is_dir():
+        raise ScenarioError(field, str(path), "is a folder; give a file name")
+    if path.exists() and not overwrite:
+        raise ScenarioError(field, str(path), "exists; pass --overwrite to replace it")
+
+
+def _origin(origin: Optional[str]):
+    from ..errors import ScenarioError
+    if origin is None:
+        return None
+    try:
+        llh = [float(v) for v in origin.split(",")]
+        assert len(llh) == 3 and abs(llh[0]) <= 90 and -180 <= llh[1] <= 360 and all(map(math.isfinite, llh))
+    except (ValueError, AssertionError):
+        raise ScenarioError("--origin", origin, "must be LAT,LON,HAE (deg, deg, m) with |LAT| <= 90") from None
+    return llh
+
+
+def _preflight(sc) -> None:
+    """Every check that needs no work: sampling (and the down-looking design), memory."""
+    if sc.is_downlooking:
+        from ..geometry.downlooking import design
+        for w in design(sc.experiment).warnings:  # sampling errors stop here, before any work
+            out.print(f"[yellow]warning:[/] {w}", highlight=False)
+        return
+    from ..focus import run_memory_estimate
+    from ..resources import check_memory
+    need, what = run_memory_estimate(sc)
+    check_memory(need, what, "reduce receiver.adc_rate, platform.aperture_length, waveform.prf or the grid "
+                 "(processing.grid.nx, ny)")
+    if sc.experiment is None:
+        from ..geometry import build_collection, check_sampling
+        check_sampling(sc, build_collection(sc))
+    atm = sc.atmosphere
+    if atm is not None and atm.model == "wave_optics":  # plan every class's beam and screens before any work
+        from ..geometry import build_collection
+        from ..simulate import screen_size
+        col = build_collection(sc)
+        classes = getattr(sc.experiment, "classes", None) or {"atmosphere.cn2": atm.cn2}
+        for cn2 in (c for c in classes.values() if c):
+            n = screen_size(sc.model_copy(update={"atmosphere": atm.model_copy(update={"cn2": cn2})}), col)
+            check_memory(atm.layers * n * n * 4.0, f"{atm.layers} phase screens of {n} x {n} (Cn2 = {cn2})",
+                         "use fewer atmosphere.layers or a coarser atmosphere.screen_dx")
+
+
+def print_headline(m: dict) -> None:
+    """Print a run's headline figures of merit against theory (:func:`salkit.report.index.headline`),
+    coloured by whether each is within the test suite's tolerance.
+
+    Parameters
+    ----------
+    m : dict
+        The run's metrics.
+    """
+    from ..report.index import headline
+    for i in headline(m):
+        mark = {True: "[green]ok[/]", False: "[red]outside tolerance[/]", None: ""}[i["ok"]]
+        out.print(f"  {i['label']:<34} {i['measured']:>10}  {i['reference']:<26} {i['delta']:<13} {mark}",
+                  highlight=False, soft_wrap=True)
+
+
+def _summary(m: dict, out_dir: Path):
+    print_headline(m)
+    out.print(f"report: {Path(out_dir) / 'report.html'}", highlight=False)
+
+
+def _report_check(res: dict) -> None:
+    """Print a sarkit consistency check's warnings; its errors exit 1 (salkit wrote a bad file)."""
+    for w in res["warnings"]:
+        out.print(f"[yellow]sarkit warning:[/] {w}", highlight=False)
+    if res["errors"]:
+        for e in res["errors"]:
+            err.print(f"[red]sarkit error:[/] {e}", highlight=False)
+        raise typer.Exit(code=1)
+
+
+def _export_sicd(src: Path, dst: Path, origin: Optional[str]) -> None:
+    from ..io import check_sicd, read_image, write_sicd
+    img = read_image(src)
+    write_sicd(img, dst, origin=_origin(origin))
+    _report_check(check_sicd(dst))
+    out.print(f"wrote {dst} (SICD 1.3.0; sarkit consistency check: 0 errors)", highlight=False)

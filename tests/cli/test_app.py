@@ -1,0 +1,44 @@
+"""The application's guard: exit 2 for bad input, 1 for the environment (a full disk, memory),
+130 when interrupted, 1 with "internal error" for a bug, one line each and no traceback; warnings
+as one line on stderr."""
+import errno
+
+import pytest
+import typer
+
+from salkit.cli.app import _guard, show_warning
+from salkit.errors import DataFileError, ScenarioError
+
+
+@pytest.mark.parametrize("exc,code,line", [
+    (ScenarioError("waveform.prf", -1, "must be > 0"), 2, "waveform.prf"),
+    (DataFileError("x.nc: is a directory, not a file"), 2, "is a directory"),
+    (OSError(errno.ENOSPC, "No space left on device", "out.nc"), 1, "no space left on the device: out.nc"),
+    (MemoryError(), 1, "out of memory"),
+    (KeyboardInterrupt(), 130, "interrupted: nothing was left behind"),
+    (ZeroDivisionError("boom"), 1, "internal error (ZeroDivisionError: boom)"),
+])
+def test_guard_exit_codes(capsys, exc, code, line):
+    def command():
+        raise exc
+
+    with pytest.raises(typer.Exit) as e:
+        _guard(command)()
+    assert e.value.exit_code == code
+    err = capsys.readouterr().err
+    assert line in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
+
+
+def test_guard_passes_results_and_exits_through():
+    assert _guard(lambda: 7)() == 7
+
+    def exits():
+        raise typer.Exit(code=3)
+
+    with pytest.raises(typer.Exit):
+        _guard(exits)()
+
+
+def test_warning_is_one_line(capsys):
+    show_warning(UserWarning("grid [coarse]"), UserWarning, "f.py", 1)
+    assert capsys.readouterr().err.strip() == "warning: grid [coarse]"

@@ -1,0 +1,72 @@
+"""``salkit run`` and ``salkit simulate``: every output of a run, flat numeric metrics.json, bad
+scenarios exit 2 without a traceback."""
+import json
+
+import pytest
+import yaml
+
+from .conftest import KEYS, salkit
+
+
+def test_run_writes_everything(tmp_path, scen):
+    out = tmp_path / "out"
+    r = salkit("run", scen, "--out", out)
+    assert r.returncode == 0, r.stderr
+    for f in ["raw.nc", "image.nc", "metrics.json", "scenario.yaml", "image.png", "cuts.png", "report.html"]:
+        assert (out / f).is_file(), f
+    m = json.loads((out / "metrics.json").read_text())
+    assert all(isinstance(v, (int, float)) for v in m.values())
+    for k in KEYS:
+        assert k in m, k
+    assert m["irw_range_m"] == pytest.approx(m["irw_range_theory_m"], rel=0.03)
+    html = (out / "report.html").read_text()
+    assert "image.png" in html and "cuts.png" in html
+    resolved = yaml.safe_load((out / "scenario.yaml").read_text())
+    assert resolved["receiver"]["noise"]["enabled"] is False  # defaults filled in
+    assert not [p for p in out.iterdir() if p.name.startswith(".")]  # no temporaries left
+
+
+def test_simulate_then_focus_with_other_algorithm(tmp_path, scen):
+    raw = tmp_path / "raw.nc"
+    assert salkit("simulate", scen, "--out", raw).returncode == 0
+    r = salkit("focus", raw, "--algorithm", "pfa", "--out", tmp_path / "f")
+    assert r.returncode == 0, r.stderr
+    m = json.loads((tmp_path / "f" / "metrics.json").read_text())
+    assert m["irw_azimuth_m"] == pytest.approx(m["irw_azimuth_theory_m"], rel=0.03)
+    r = salkit("info", raw)
+    assert r.returncode == 0
+    d = json.loads(r.stdout)  # typed: flags are booleans, numbers numbers, with their units
+    assert d["iq"] is True and d["noise_added"] is False and isinstance(d["prf"], float)
+    assert d["units"]["prf"] == "Hz" and d["units"]["pulse_width"] == "s" and d["units"]["center_position"] == "m"
+    assert salkit("info", scen).returncode == 0
+
+
+@pytest.mark.parametrize("args,needle", [
+    (["--set", "waveform.bandwidth=-1"], "waveform.bandwidth"),
+    (["--set", "waveform.prf=2e5"], "duty cycle"),
+    (["--set", "platform.real_aperture=0.0"], "platform.real_aperture"),
+    (["--set", "receiver.adc_rate=1e5", "--set", "scene.points.0.y=1.0"], "receiver.adc_rate"),
+    (["--set", "processing.grid.dy=0.5"], "processing.grid.dy"),
+    (["--set", "scene.points.0.x=.nan"], "scene.points.0.x"),
+])
+def test_bad_scenarios_exit_2_without_traceback(tmp_path, scen, args, needle):
+    out = tmp_path / "o"
+    r = salkit("run", scen, "--out", out, *args)
+    assert r.returncode == 2
+    assert needle in r.stderr
+    assert "Traceback" not in r.stderr + r.stdout
+    assert not out.exists()  # checked before any work or output
+
+
+def test_run_with_autofocus_records_history(tmp_path, scen):
+    out = tmp_path / "af"
+    r = salkit("run", scen, "--out", out, "--set", "platform.phase_error.amplitude=8",
+               "--set", "processing.autofocus=pga", "--set", "processing.autofocus_kernel=ev")
+    assert r.returncode == 0, r.stderr
+    m = json.loads((out / "metrics.json").read_text())
+    assert m["before_autofocus_irw_azimuth_m"] > 1.3 * m["irw_azimuth_theory_m"]
+    assert m["irw_azimuth_m"] == pytest.approx(m["irw_azimuth_theory_m"], rel=0.05)
+    assert m["autofocus_entropy_0"] > m[f"autofocus_entropy_{m['autofocus_best_iteration']}"]
+    for f in ("autofocus.png", "image_focus.nc"):
+        assert (out / f).is_file()
+    assert "autofocus.png" in (out / "report.html").read_text()
