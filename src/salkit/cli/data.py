@@ -7,11 +7,10 @@ from typing import Optional
 
 import typer
 
-from .app import _Bar, _command_line, _guard, app, out
+from .app import _Bar, _command_line, _guard, out
 from .options import _check_out_file, _export_sicd, _grid, _origin, _report_check, _summary
 
 
-@app.command()
 @_guard
 def focus(raw: Path = typer.Argument(..., metavar="RAW", help="raw or phase-history file: .nc, .cphd or GOTCHA .mat"),
           out_dir: Path = typer.Option(..., "--out", metavar="DIR", help="output folder (complete or absent after the run)"),
@@ -70,7 +69,6 @@ def focus(raw: Path = typer.Argument(..., metavar="RAW", help="raw or phase-hist
     _summary(m, out_dir)
 
 
-@app.command()
 @_guard
 def export(image: Path = typer.Argument(..., metavar="IMAGE.nc", help="salkit image file (image.nc of a run)"),
            dst: Path = typer.Argument(..., metavar="DST.nitf", help="SICD file to write (.nitf or .ntf)"),
@@ -85,7 +83,6 @@ def export(image: Path = typer.Argument(..., metavar="IMAGE.nc", help="salkit im
     _export_sicd(image, dst, origin)
 
 
-@app.command()
 @_guard
 def convert(src: Path = typer.Argument(..., metavar="SRC", help="input: .nc (raw or phase history), .cphd or .mat (GOTCHA)"),
             dst: Path = typer.Argument(..., metavar="DST", help="output: .nc (phase history), .cphd or .mat"),

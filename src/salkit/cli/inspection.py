@@ -8,7 +8,7 @@ from typing import Optional
 
 import typer
 
-from .app import _guard, app, out
+from .app import _guard, out
 from .options import _examples_dir, _preflight
 
 #: Attributes stored as 0/1 (NetCDF has no booleans) that mean yes/no.
@@ -41,7 +41,6 @@ def _with_units(d: dict) -> dict:
     return {**d, "units": units}
 
 
-@app.command()
 @_guard
 def info(path: Path = typer.Argument(..., metavar="PATH", help="a salkit NetCDF file, or a scenario YAML")):
     """Describe a data file or a scenario (with its derived quantities) as JSON: numbers typed,
@@ -72,7 +71,6 @@ def info(path: Path = typer.Argument(..., metavar="PATH", help="a salkit NetCDF 
     out.print_json(json.dumps(_with_units(_typed(d))))
 
 
-@app.command()
 @_guard
 def verify(folder: Path = typer.Argument(..., metavar="DIR", help="an output folder of salkit run / focus")):
     """Check every file of an output folder against its manifest.json (size and SHA-256)."""
@@ -86,7 +84,6 @@ def verify(folder: Path = typer.Argument(..., metavar="DIR", help="an output fol
     out.print(f"{folder}: {r['files']} files match manifest.json", highlight=False)
 
 
-@app.command()
 @_guard
 def examples(copy_to: Optional[Path] = typer.Option(None, "--copy", metavar="DIR", help="copy the examples into this folder"),
              overwrite: bool = typer.Option(False, "--overwrite", help="replace files that differ from the shipped ones")):

@@ -3,7 +3,7 @@
 Bad input (scenario fields, data files, sampling) prints one clear line naming the field, the
 value and the constraint, and exits with status 2, never a traceback.
 
-This module is the entry point: it registers the commands (one module per group:
+This module is the entry point: it registers the commands (:data:`COMMANDS`, one module per group:
 :mod:`~salkit.cli.runs`, :mod:`~salkit.cli.data`, :mod:`~salkit.cli.turbulence`,
 :mod:`~salkit.cli.inspection`) on the application of :mod:`~salkit.cli.app` and installs the signal
 handling. Each command imports the library inside itself, so ``salkit --help`` loads none of it.
@@ -12,13 +12,15 @@ from __future__ import annotations
 
 import sys
 
-# each registers its commands, in the order ``salkit --help`` lists them
-from . import runs  # noqa: F401, I001
-from . import data  # noqa: F401
-from . import turbulence  # noqa: F401
-from . import inspection  # noqa: F401
+from . import data, inspection, runs, turbulence
 from .app import _STATE, _Bar, app, show_warning  # noqa: F401  (the application and what the demo uses)
 from .options import _examples_dir, print_headline  # noqa: F401
+
+#: The commands, in the order ``salkit --help`` lists them.
+COMMANDS = (runs.run, runs.simulate, data.focus, data.export, data.convert, turbulence.screen, turbulence.propagate,
+            inspection.info, inspection.verify, inspection.examples)
+for _command in COMMANDS:
+    app.command()(_command)
 
 
 def _on_signal(signum, frame):  # pragma: no cover - exercised by subprocess tests

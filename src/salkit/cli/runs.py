@@ -6,11 +6,10 @@ from typing import List, Optional
 
 import typer
 
-from .app import _Bar, _command_line, _guard, app, out
+from .app import _Bar, _command_line, _guard, out
 from .options import _check_out_file, _preflight, _summary
 
 
-@app.command()
 @_guard
 def run(scenario: Path = typer.Argument(..., metavar="SCENARIO.yaml", help="scenario file (salkit examples lists the shipped ones)"),
         out_dir: Path = typer.Option(..., "--out", metavar="DIR", help="output folder (complete or absent after the run)"),
@@ -38,7 +37,6 @@ def run(scenario: Path = typer.Argument(..., metavar="SCENARIO.yaml", help="scen
     _summary(m, out_dir)
 
 
-@app.command()
 @_guard
 def simulate(scenario: Path = typer.Argument(..., metavar="SCENARIO.yaml", help="scenario file"),
              out: Path = typer.Option(..., "--out", metavar="FILE.nc", help="raw NetCDF file to write (complex echoes, slow time x fast time, s)"),

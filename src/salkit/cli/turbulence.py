@@ -7,11 +7,10 @@ from typing import Optional
 
 import typer
 
-from .app import _guard, app, out
+from .app import _guard, out
 from .options import _check_out_file
 
 
-@app.command()
 @_guard
 def screen(n: int = typer.Option(..., "--n", metavar="SAMPLES", help="screen size, samples per side"),
            dx: float = typer.Option(..., "--dx", metavar="METRES", help="sample spacing, m"),
@@ -33,7 +32,6 @@ def screen(n: int = typer.Option(..., "--n", metavar="SAMPLES", help="screen siz
     globals()["out"].print(f"wrote {nc} ({count} screens of {n} x {n}) and {png}")
 
 
-@app.command()
 @_guard
 def propagate(wave: str = typer.Option("plane", "--wave", metavar="KIND", help="plane | spherical (a point source)"),
               wavelength: float = typer.Option(..., "--wavelength", metavar="METRES", help="wavelength, m"),

@@ -8,6 +8,24 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
 
+class FieldProblem(ValueError):
+    """A check across fields that names the field it refuses (relative to the object checked), its
+    value and the constraint: what a model validator raises so that the error reported to the user
+    names ``platform.trajectory`` rather than the object that holds it.
+
+    Parameters
+    ----------
+    field : str
+        Dotted path below the object being validated.
+    value : object
+    constraint : str
+    """
+
+    def __init__(self, field: str, value, constraint: str):
+        super().__init__(f"{field} = {value!r}: {constraint}")
+        self.field, self.value, self.constraint = field, value, constraint
+
+
 class _Frozen(BaseModel):
     model_config = ConfigDict(frozen=True, extra="forbid", validate_default=True, allow_inf_nan=False)
 

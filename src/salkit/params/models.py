@@ -18,7 +18,7 @@ from ..choices import (ACCURACY, ALGORITHMS, ATMOSPHERE_MODELS, AUTOFOCUS_METHOD
                        PLANES, STACK_MODES, WINDOWS)
 from ..constants import SPEED_OF_LIGHT
 from ..tolerances import BP_UPSAMPLE
-from .base import PhaseError, _Frozen
+from .base import FieldProblem, PhaseError, _Frozen
 from .downlooking import DownlookingExperiment
 
 
@@ -77,15 +77,14 @@ class Waveform(_Frozen):
     @model_validator(mode="after")
     def _consistent(self) -> "Waveform":
         if self.bandwidth >= self.carrier_frequency:
-            raise ValueError(f"bandwidth {self.bandwidth:g} Hz must be below the carrier frequency "
-                             f"{self.carrier_frequency:g} Hz")
+            raise FieldProblem("bandwidth", self.bandwidth, f"must be below the carrier frequency "
+                                                            f"{self.carrier_frequency:g} Hz")
         if self.chirp_rate is not None:
             expected = self.bandwidth / self.pulse_width
             if not math.isfinite(self.chirp_rate) or abs(self.chirp_rate - expected) > 1e-6 * expected:
-                raise ValueError(f"chirp_rate {self.chirp_rate:g} Hz/s must equal bandwidth/pulse_width = "
-                                 f"{expected:g} Hz/s")
+                raise FieldProblem("chirp_rate", self.chirp_rate, f"must equal bandwidth/pulse_width = {expected:g} Hz/s")
         if self.prf * self.pulse_width > 1.0:
-            raise ValueError(f"duty cycle prf*pulse_width = {self.prf * self.pulse_width:g} must be <= 1")
+            raise FieldProblem("prf", self.prf, f"duty cycle prf*pulse_width = {self.prf * self.pulse_width:g} must be <= 1")
         return self
 
     @property
@@ -122,7 +121,7 @@ class RelativeOrbit(_Frozen):
     @model_validator(mode="after")
     def _radii(self) -> "RelativeOrbit":
         if not self.r1 < self.r2:
-            raise ValueError(f"r1 = {self.r1} m must be below r2 = {self.r2} m")
+            raise FieldProblem("r1", self.r1, f"must be below r2 = {self.r2} m")
         return self
 
 
@@ -160,7 +159,8 @@ class Platform(_Frozen):
         if self.positions is not None and len(self.positions) < 2:
             raise ValueError(f"positions has {len(self.positions)} pulses; at least 2 are needed")
         if self.trajectory == "keplerian" and self.positions is not None:
-            raise ValueError("trajectory keplerian moves the straight line onto the orbit: give no positions")
+            raise FieldProblem("positions", f"<{len(self.positions)} positions>",
+                               "trajectory keplerian moves the straight line onto the orbit: give no positions")
         return self
 
     @property
@@ -434,7 +434,7 @@ class SpaceborneExperiment(_Frozen):
     @model_validator(mode="after")
     def _orbits(self) -> "SpaceborneExperiment":
         if not self.r1 < self.r2:
-            raise ValueError(f"r1 = {self.r1} m must be below r2 = {self.r2} m (the SAL inside the target's orbit)")
+            raise FieldProblem("r1", self.r1, f"must be below r2 = {self.r2} m (the SAL inside the target's orbit)")
         return self
 
 
@@ -471,12 +471,12 @@ class Scenario(_ScenarioBase):
     def _beam(self) -> "Scenario":
         if (self.platform.trajectory == "keplerian" and self.platform.orbit is None
                 and not (self.experiment is not None and self.experiment.kind == "spaceborne_geo")):
-            raise ValueError("platform.trajectory keplerian needs the orbits: a spaceborne_geo experiment "
-                             "(or platform.orbit)")
+            raise FieldProblem("platform.trajectory", "keplerian",
+                               "needs the orbits: a spaceborne_geo experiment (or platform.orbit)")
         lam, D = self.waveform.wavelength, self.platform.real_aperture
         if not 1.2196698912665045 * lam / D < 0.5:
-            raise ValueError(f"platform.real_aperture = {D:g} m is too small for wavelength {lam:g} m: the "
-                             "beam's first null 1.22 lambda/D must stay below 30 deg (paraxial Airy beam)")
+            raise FieldProblem("platform.real_aperture", D, f"is too small for wavelength {lam:g} m: the beam's "
+                               "first null 1.22 lambda/D must stay below 30 deg (paraxial Airy beam)")
         return self
 
     @property

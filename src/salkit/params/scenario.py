@@ -9,10 +9,15 @@ import yaml
 from pydantic import TypeAdapter, ValidationError
 
 from ..errors import ScenarioError
+from .base import FieldProblem
 from .models import AnyScenario, DownlookingScenario, Scenario
 from ..errors import EnvironmentProblem
 
 _ADAPTER = TypeAdapter(AnyScenario)
+
+
+#: The experiment union's tags, which pydantic puts in an error's location (not fields).
+_EXPERIMENT_TAGS = ("turbulence_pga", "nonlinear_chirp", "spaceborne_geo", "downlooking")
 
 
 def _format_validation(err: ValidationError) -> ScenarioError:
@@ -20,14 +25,18 @@ def _format_validation(err: ValidationError) -> ScenarioError:
     parts = list(first["loc"])
     if parts and parts[0] in ("sal", "downlooking"):  # the union's tag, not a field
         parts = parts[1:]
+    parts = [p for i, p in enumerate(parts) if not (i and parts[i - 1] == "experiment" and p in _EXPERIMENT_TAGS)]
+    problem = (first.get("ctx") or {}).get("error")
+    if isinstance(problem, FieldProblem):  # a check across fields that names the field it refuses
+        parts += problem.field.split(".")
     loc = ".".join(str(p) for p in parts) or "scenario"
-    msg = first["msg"]
+    msg = problem.constraint if isinstance(problem, FieldProblem) else first["msg"]
     if msg == "Field required":
         msg = ("is required" + (" (only experiment.kind = downlooking works without the waveform, platform, "
                                 "receiver and processing sections)" if len(parts) == 1 else ""))
     if msg.startswith("Value error, "):
         msg = msg[len("Value error, "):]
-    value = first.get("input")
+    value = problem.value if isinstance(problem, FieldProblem) else first.get("input")
     if isinstance(value, (dict, list)) and len(repr(value)) > 120:
         value = f"<{type(value).__name__}>"
     more = len(err.errors()) - 1
