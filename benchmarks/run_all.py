@@ -35,6 +35,8 @@ run by :mod:`runner`, which writes ``benchmarks/last_run.json``.
   error, time; the wide-angle arc from 101^2 to 2001^2 pixels.
 - propagation: split-step wave-optics propagation per realisation (10 screens) at N = 256, 512,
   1024 against the same propagation written plainly with np.fft; fields compared.
+- sweep: a 24-point design study in this process and on 1 and 2 Dask workers: speed-up and the
+  engine's per-point overhead.
 - scaling: time and peak memory of each stage (simulate, phase history, BP, FFBP, PFA, PGA) at
   N = 256, 512, 1024 (N x N pixels, N pulses), and the fitted exponent of time ~ N^a.
 """

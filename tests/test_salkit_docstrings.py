@@ -20,7 +20,9 @@ def _own_returns(fn) -> bool:
 
 
 def _is_cli_command(fn) -> bool:
-    return any(isinstance(d, ast.Call) and getattr(d.func, "attr", "") == "command" for d in fn.decorator_list)
+    """A command: guarded (``@_guard``, registered in ``cli.main.COMMANDS``) or ``@app.command()``."""
+    return any((isinstance(d, ast.Call) and getattr(d.func, "attr", "") == "command")
+               or (isinstance(d, ast.Name) and d.id == "_guard") for d in fn.decorator_list)
 
 
 def _problems():

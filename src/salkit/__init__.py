@@ -24,14 +24,14 @@ from .errors import DataFileError, SalkitError, SamplingError, ScenarioError  # 
 __getattr__, __dir__, _ = _lazy.attach(
     __name__,
     submodules=["atmosphere", "autofocus", "focus", "geometry", "interferometry", "io", "metrics", "params",
-                "plot", "report", "resources", "signals", "simulate", "stack", "systems", "choices", "papers",
+                "plot", "report", "resources", "signals", "simulate", "stack", "studies", "systems", "choices", "papers",
                 "tolerances"],
     submod_attrs={"params": ["Scenario", "load_scenario", "example_path"], "focus": ["range_compress"],
-                  "metrics": ["measure"], "geometry": ["truth_positions"]},
+                  "metrics": ["measure"], "geometry": ["truth_positions"], "studies": ["sweep"]},
 )
 
 __all__ = [
     "__version__", "SalkitError", "ScenarioError", "SamplingError", "DataFileError",
     "Scenario", "load_scenario", "example_path", "simulate", "focus", "range_compress", "measure",
-    "truth_positions",
+    "truth_positions", "sweep",
 ]

@@ -9,8 +9,13 @@ from __future__ import annotations
 
 import os
 import re
+from contextlib import contextmanager
 
-from .errors import ResourceError, ScenarioError
+import lazy_loader as _lazy
+
+from .errors import EnvironmentProblem, ResourceError, ScenarioError
+
+_dask_distributed = _lazy.load("dask.distributed", suppress_warning=True)
 
 _LIMIT: int | None = None
 _UNITS = {"": 1, "b": 1, "k": 1e3, "kb": 1e3, "m": 1e6, "mb": 1e6, "g": 1e9, "gb": 1e9, "t": 1e12, "tb": 1e12,
@@ -149,3 +154,48 @@ def check_memory(need: float, what: str, hint: str) -> None:
 
 
 __all__ = ["available_memory", "check_memory", "gib", "parse_size", "set_limit"]
+
+
+@contextmanager
+def dask_client(scheduler: str | None = None, workers: int | None = None):
+    """A Dask client for the duration of a block: connected to ``scheduler`` if given, else to a
+    local cluster of ``workers`` processes (default: one per core) started for the block, each
+    with one compute thread (numba's own pool would otherwise put workers x cores threads on the
+    cores).
+
+    Parameters
+    ----------
+    scheduler : str, optional
+        Address of an existing Dask scheduler, e.g. ``tcp://host:8786``.
+    workers : int, optional
+        Local worker processes.
+
+    Yields
+    ------
+    dask.distributed.Client
+
+    Raises
+    ------
+    EnvironmentProblem
+        When no scheduler answers at ``scheduler`` (nothing has been written).
+    """
+    cluster = None
+    try:  # connect first: an unreachable scheduler writes nothing
+        if scheduler:
+            client = _dask_distributed.Client(scheduler, timeout="5s")
+        else:
+            cluster = _dask_distributed.LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1,
+                                                     processes=True, dashboard_address=None,
+                                                     env={"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"})
+            client = _dask_distributed.Client(cluster)
+    except (OSError, TimeoutError) as err:
+        if cluster is not None:
+            cluster.close()
+        raise EnvironmentProblem(f"--scheduler {scheduler}: no Dask scheduler answers there "
+                                 f"({type(err).__name__})") from None
+    try:
+        yield client
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()

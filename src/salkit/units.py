@@ -29,6 +29,9 @@ NAMED: dict[str, str] = {
     "nyquist_spacing_y": "m", "lens_width_forward": "m", "lens_width_backward": "m",
     "lens_width_paper_forward": "m", "lens_width_paper_backward": "m", "transmit_pupil_diameter": "m",
     "coupling_length": "m", "wavelength_derived": "",
+    # scenario fields a sweep varies (docs/studies.md)
+    "cn2": "m^(-2/3)", "speed": "m/s", "altitude": "m", "standoff": "m", "aperture_length": "m",
+    "screen_dx": "m", "outer_scale": "m", "inner_scale": "m", "signal_photons": "",
     # attributes of salkit's data files (docs/data-format.md)
     "carrier_frequency": "Hz", "chirp_rate": "Hz/s", "bandwidth": "Hz", "pulse_width": "s", "real_aperture": "m",
     "center_position": "m", "scene_center": "m", "aperture_center": "m", "plane_origin": "m", "grid_dx": "m",

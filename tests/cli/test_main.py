@@ -1,5 +1,5 @@
 """The command line as a whole: help that names every unit and no Python type, commands listed in
-the order of a session (run, then data, turbulence, inspection)."""
+the order of a session (run, then data, turbulence, studies, inspection)."""
 from .conftest import salkit
 
 
@@ -18,5 +18,5 @@ def test_commands_in_order():
     lines = salkit("--help").stdout.splitlines()
     listed = [ln.split()[0] for ln in lines[next(i for i, ln in enumerate(lines) if ln.startswith("Commands")) + 1:]
               if ln.startswith("  ") and ln.split()]
-    assert listed == ["run", "simulate", "focus", "export", "convert", "screen", "propagate", "info", "verify",
-                      "examples"]
+    assert listed == ["run", "simulate", "focus", "export", "convert", "screen", "propagate", "sweep", "info",
+                      "verify", "examples"]

@@ -1,4 +1,5 @@
-"""``make demo``: run every shipped example and leave their reports under ``results/``.
+"""``make demo``: run every shipped example and sweep (``examples/sweeps/``) and leave their reports
+under ``results/``.
 
 Examples that are long at full scale run a documented smaller configuration here (``DEMO_SETS``);
 the full one stays one command away: ``salkit run examples/NAME.yaml --out DIR``.
@@ -18,6 +19,9 @@ DEMO_SETS: dict[str, list[str]] = {
     # the full collection is 11,288 sub-images; the demo stacks the 64 nearest closest approach
     "spaceborne_geo": ["stack.max_subimages=64"],
 }
+#: sweep name -> realisations in the demo (the full study stays one command away:
+#: ``salkit sweep examples/sweeps/NAME.yaml --out DIR``).
+DEMO_SWEEP_REALISATIONS: dict[str, int] = {"turbulence_cn2": 5, "geo_snr_vs_photons": 3}
 
 
 def main(argv=None) -> int:
@@ -40,31 +44,47 @@ def main(argv=None) -> int:
     from ..params import load_scenario
     from ..report import run_scenario
     from ..report.index import write_index
+    from ..report.sweeps import CHECKPOINT, run_sweep
+    from ..studies.plan import prepare
+    from ..studies.spec import resolve_request
     from .app import _Bar, show_warning
     from .options import _examples_dir, print_headline
     import warnings
     warnings.showwarning = show_warning
 
     out = Path(args.out)
+
+    def example(f: Path):
+        sets = DEMO_SETS.get(f.stem, [])
+        sc = load_scenario(f, sets)
+        command = " ".join(["salkit run", f"examples/{f.name}", "--out", str(out / f.stem), *(f"--set {x}" for x in sets)])
+        with RunFolder(out / f.stem, overwrite=True, keep_on_failure=("stack.zarr",)) as tmp, _Bar() as bar:
+            return sc.description, run_scenario(sc, tmp, progress=bar, command=command, index="../index.html")
+
+    def study(f: Path):
+        request = resolve_request(f, realisations=DEMO_SWEEP_REALISATIONS.get(f.stem))
+        sc, plan, invalid = prepare(request)
+        command = " ".join(["salkit sweep", f"examples/sweeps/{f.name}", "--out", str(out / f"sweep_{f.stem}")]
+                           + ([f"--realisations {request.realisations}"] if f.stem in DEMO_SWEEP_REALISATIONS else []))
+        with RunFolder(out / f"sweep_{f.stem}", overwrite=True, keep_on_failure=(CHECKPOINT,)) as tmp, _Bar() as bar:
+            return request.description, run_sweep(sc, plan, invalid, tmp, progress=bar, index="../index.html",
+                                                   command=command)
+
+    jobs = [(f.stem, f, example) for f in sorted(_examples_dir().glob("*.yaml"))]
+    jobs += [(f"sweep_{f.stem}", f, study) for f in sorted((_examples_dir() / "sweeps").glob("*.yaml"))]
     runs = []
-    for f in sorted(_examples_dir().glob("*.yaml")):
-        name = f.stem
+    for name, f, job in jobs:
         if args.only and name not in args.only:
             continue
         print(f"== {name}", flush=True)
         t0 = time.perf_counter()
-        sets = DEMO_SETS.get(name, [])
-        command = " ".join(["salkit run", f"examples/{f.name}", "--out", str(out / name),
-                            *(f"--set {x}" for x in sets)])
         try:
-            sc = load_scenario(f, sets)
-            with RunFolder(out / name, overwrite=True, keep_on_failure=("stack.zarr",)) as tmp, _Bar() as bar:
-                m = run_scenario(sc, tmp, progress=bar, command=command, index="../index.html")
+            description, m = job(f)
         except SalkitError as e:
             print(f"error: {e}", file=sys.stderr)
             return 2
         dt = time.perf_counter() - t0
-        runs.append({"name": name, "description": sc.description, "seconds": dt, "metrics": m})
+        runs.append({"name": name, "description": description, "seconds": dt, "metrics": m})
         print(f"   {dt:.1f} s", flush=True)
         print_headline(m)
     write_index(out, runs)

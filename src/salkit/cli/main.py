@@ -4,7 +4,7 @@ Bad input (scenario fields, data files, sampling) prints one clear line naming t
 value and the constraint, and exits with status 2, never a traceback.
 
 This module is the entry point: it registers the commands (:data:`COMMANDS`, one module per group:
-:mod:`~salkit.cli.runs`, :mod:`~salkit.cli.data`, :mod:`~salkit.cli.turbulence`,
+:mod:`~salkit.cli.runs`, :mod:`~salkit.cli.data`, :mod:`~salkit.cli.turbulence`, :mod:`~salkit.cli.studies`,
 :mod:`~salkit.cli.inspection`) on the application of :mod:`~salkit.cli.app` and installs the signal
 handling. Each command imports the library inside itself, so ``salkit --help`` loads none of it.
 """
@@ -12,13 +12,13 @@ from __future__ import annotations
 
 import sys
 
-from . import data, inspection, runs, turbulence
+from . import data, inspection, runs, studies, turbulence
 from .app import _STATE, _Bar, app, show_warning  # noqa: F401  (the application and what the demo uses)
 from .options import _examples_dir, print_headline  # noqa: F401
 
 #: The commands, in the order ``salkit --help`` lists them.
 COMMANDS = (runs.run, runs.simulate, data.focus, data.export, data.convert, turbulence.screen, turbulence.propagate,
-            inspection.info, inspection.verify, inspection.examples)
+            studies.sweep, inspection.info, inspection.verify, inspection.examples)
 for _command in COMMANDS:
     app.command()(_command)
 

@@ -58,30 +58,10 @@ def _origin(origin: Optional[str]):
 
 
 def _preflight(sc) -> None:
-    """Every check that needs no work: sampling (and the down-looking design), memory."""
-    if sc.is_downlooking:
-        from ..geometry.downlooking import design
-        for w in design(sc.experiment).warnings:  # sampling errors stop here, before any work
-            out.print(f"[yellow]warning:[/] {w}", highlight=False)
-        return
-    from ..focus import run_memory_estimate
-    from ..resources import check_memory
-    need, what = run_memory_estimate(sc)
-    check_memory(need, what, "reduce receiver.adc_rate, platform.aperture_length, waveform.prf or the grid "
-                 "(processing.grid.nx, ny)")
-    if sc.experiment is None:
-        from ..geometry import build_collection, check_sampling
-        check_sampling(sc, build_collection(sc))
-    atm = sc.atmosphere
-    if atm is not None and atm.model == "wave_optics":  # plan every class's beam and screens before any work
-        from ..geometry import build_collection
-        from ..simulate import screen_size
-        col = build_collection(sc)
-        classes = getattr(sc.experiment, "classes", None) or {"atmosphere.cn2": atm.cn2}
-        for cn2 in (c for c in classes.values() if c):
-            n = screen_size(sc.model_copy(update={"atmosphere": atm.model_copy(update={"cn2": cn2})}), col)
-            check_memory(atm.layers * n * n * 4.0, f"{atm.layers} phase screens of {n} x {n} (Cn2 = {cn2})",
-                         "use fewer atmosphere.layers or a coarser atmosphere.screen_dx")
+    """Every check that needs no work (:func:`salkit.systems.preflight.preflight`), its warnings printed."""
+    from ..systems.preflight import preflight
+    for w in preflight(sc):  # sampling errors stop here, before any work
+        out.print(f"[yellow]warning:[/] {w}", highlight=False)
 
 
 def print_headline(m: dict) -> None:

@@ -21,7 +21,8 @@ FIGURES = (("spotlight_points/image.png", "spotlight_points_image.png"),
            ("downlooking_3d/terrain.png", "downlooking_terrain.png"),
            ("downlooking_3d/scene.png", "downlooking_scene.png"),
            ("downlooking_3d/disturbance.png", "downlooking_disturbance.png"),
-           ("stripmap_scene/image.png", "stripmap_scene_image.png"))
+           ("stripmap_scene/image.png", "stripmap_scene_image.png"),
+           ("sweep_turbulence_cn2/sweep_peak_amplitude.png", "sweep_turbulence_cn2_peak.png"))
 
 _BLOCK = re.compile(r"(<!-- generated:(?P<name>[a-z_]+) -->\n)(?P<body>.*?)(<!-- /generated:(?P=name) -->)", re.S)
 

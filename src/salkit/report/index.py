@@ -34,7 +34,9 @@ def write_index(out_dir: str | Path, runs: list[dict]) -> Path:
     cards = []
     for r in runs:
         items = headline(r["metrics"])
-        thumb = next((f"{r['name']}/{t}" for t in THUMBNAILS if (out / r["name"] / t).is_file()), None)
+        found = [t for t in THUMBNAILS if (out / r["name"] / t).is_file()]
+        found += sorted(p.name for p in (out / r["name"]).glob("sweep_*.png"))  # a sweep's first figure
+        thumb = f"{r['name']}/{found[0]}" if found else None
         cards.append({**r, "items": items, "ok": passed(items), "thumb": thumb})
     html = environment().get_template("index.html").render(cards=cards, version=__version__,
                                                            n_ok=sum(c["ok"] is True for c in cards),

@@ -7,6 +7,11 @@ from .. import tolerances as tol
 from ..units import display
 
 
+#: Metric name prefixes of a sweep judged against their theory at the worst point, and the tolerance
+#: of |median / theory - 1| (the same as a single run's).
+SWEEP_RULES = {"irw_": tol.IRW_RATIO, "image_snr": tol.SNR_RATIO, "snr_": tol.SNR_RATIO}
+
+
 def in_clutter(m: dict) -> bool:
     """Whether the measured target sits in a scene (speckle or other scatterers): its sidelobes then
     hold the scene as well as the response, and PSLR and ISLR have no pass/fail rule.
@@ -160,6 +165,17 @@ def headline(metrics: dict) -> list[dict]:
     [True]
     """
     m, items = metrics, []
+    if "sweep_points" in m:  # a design study: how many points ran, each metric's worst point against theory
+        items.append({"label": "points run", "measured": f"{m['sweep_points_ok']} of {m['sweep_points']}",
+                      "reference": f"x {m['sweep_realisations']} realisations", "delta": "",
+                      "ok": None})
+        for k in sorted(k for k in m if k.endswith("_over_theory_max_deviation")):
+            name = k[: -len("_over_theory_max_deviation")]
+            rule = SWEEP_RULES.get(next((p for p in SWEEP_RULES if name.startswith(p)), ""), None)
+            items.append({"label": f"{name}, worst point", "measured": f"{100 * m[k]:.2f} % from theory",
+                          "reference": "median over realisations", "delta": "",
+                          "ok": None if rule is None or m.get("sweep_perturbed") else m[k] <= rule})
+        return items
     if "snr_stack" in m:  # space-borne GEO stack (seed 001)
         single = _ratio_item("single sub-image SNR", m, "snr_single", "snr_single_theory", tol.SNR_RATIO,
                              "eq 15 (uniform area)")

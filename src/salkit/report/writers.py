@@ -1,6 +1,7 @@
 """Figures and report.html of each workflow, drawn from its :class:`RunResult` after the work."""
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -173,3 +174,41 @@ def write_downlooking(result: RunResult, out: Path, page: dict | None = None) ->
 
 
 WRITERS["downlooking"] = write_downlooking
+
+
+#: Most metrics a sweep's page draws (the ones asked for, else those with a theory first).
+SWEEP_FIGURES = 12
+
+
+def write_sweep(result: RunResult, out: Path, page: dict | None = None) -> None:
+    """A sweep's figures (each metric against the first varied field, median and 5-95 % band, one
+    line per value of the second, theory dashed) and its report.html.
+
+    Parameters
+    ----------
+    result : RunResult
+        From :func:`salkit.studies.engine.as_result`.
+    out : Path
+    page : dict, optional
+        Command line and index link (:func:`salkit.report.render`).
+    """
+    ds = result.datasets["sweep.nc"]
+    sweep = json.loads(ds.attrs["sweep"])
+    axes = sweep["axes"]
+    if "point" in ds.dims:  # zipped: draw against the first field's values
+        ds = ds.swap_dims({"point": axes[0]["field"]})
+    names = [n for n in result.figures["metrics"] if not sweep["metrics"] or n in sweep["metrics"]]
+    names = sorted(names, key=lambda n: plot.metric_theory(ds, n) is None)[:SWEEP_FIGURES]
+    figs = []
+    for n in names:
+        if np.isfinite(ds[n].values).any():
+            plot.sweep_figure(ds, n, out / f"sweep_{n}.png")
+            figs.append({"file": f"sweep_{n}.png", "title": n,
+                         "alt": f"{n} against {axes[0]['field']}, median over the realisations with the 5-95 % band"})
+    status = ds["status"].values.ravel()
+    problems = sorted({s for s in status if s != "ok"})
+    render(out, "sweep.html", result, page, axes=axes, zipped=sweep["zip"], realisations=sweep["realisations"],
+           figs=figs, problems=problems, n_bad=int((status != "ok").sum()))
+
+
+WRITERS["sweep"] = write_sweep

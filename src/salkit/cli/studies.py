@@ -1,0 +1,69 @@
+"""``salkit sweep``: a parameter sweep with realisations on Dask, checkpointed, into a folder with
+``sweep.nc``, figures, ``metrics.json`` and ``report.html``."""
+from __future__ import annotations
+
+import os
+import shutil
+from pathlib import Path
+from typing import List, Optional
+
+import typer
+
+from .app import _Bar, _command_line, _guard, out
+
+
+@_guard
+def sweep(scenario: Path = typer.Argument(..., metavar="SCENARIO.yaml", help="base scenario file, or a sweep file (examples/sweeps/)"),
+          vary: List[str] = typer.Option([], "--vary", metavar="FIELD=SPEC", help="a field as --set names it and its values: v1,v2,... | lin:START:STOP:N | log:START:STOP:N (SI units); repeatable: the full grid"),
+          zip_: bool = typer.Option(False, "--zip", help="pair the --vary axes (equal lengths) instead of spanning the grid"),
+          realisations: Optional[int] = typer.Option(None, "--realisations", metavar="N", help="realisations per point (common random numbers: every point sees the same ones); default 1 or the sweep file's"),
+          metric: List[str] = typer.Option([], "--metric", metavar="NAME", help="keep this metric (and its theory); repeatable; default: every numeric metric"),
+          out_dir: Path = typer.Option(..., "--out", metavar="DIR", help="output folder (complete or absent after the run)"),
+          set_: List[str] = typer.Option([], "--set", metavar="KEY=VALUE", help="override a field of the base scenario in its SI unit; repeatable"),
+          workers: Optional[int] = typer.Option(None, metavar="N", help="Dask worker processes of a local cluster (default: one per core; 0: in this process)"),
+          scheduler: Optional[str] = typer.Option(None, metavar="ADDRESS", help="address of an existing Dask scheduler, e.g. tcp://host:8786"),
+          resume: bool = typer.Option(False, "--resume", help="continue an interrupted sweep into --out: only what is missing runs"),
+          overwrite: bool = typer.Option(False, "--overwrite", help="replace a non-empty --out once the new sweep is complete"),
+          keep_images: bool = typer.Option(False, "--keep-images", help="also keep every run's image in DIR/images/ (p<point>_r<realisation>_image.nc)")):
+    """Sweep scenario fields (a grid or zipped axes) with realisations: every metric against them,
+    median and spread, theory beside it, in sweep.nc and report.html."""
+    from ..errors import ScenarioError
+    from ..io.runfolder import RunFolder
+    from ..report.sweeps import CHECKPOINT, IMAGES, run_sweep
+    from ..studies.plan import prepare
+    from ..studies.spec import resolve_request
+    if realisations is not None and realisations < 1:
+        raise ScenarioError("--realisations", realisations, "must be >= 1")
+    if workers is not None and workers < 0:
+        raise ScenarioError("--workers", workers, "must be >= 0")
+    request = resolve_request(scenario, vary, set_, zip_, realisations, metric)
+    sc, plan, invalid = prepare(request)  # every point checked before any work
+    for i, why in invalid.items():
+        out.print(f"[yellow]invalid point {i}[/] ({', '.join(plan.overrides(i))}): {why}", highlight=False,
+                  soft_wrap=True)
+    folder = RunFolder(out_dir, overwrite=overwrite, keep_on_failure=(CHECKPOINT, IMAGES))
+    folder._check_target()
+    if not resume and folder.resume.is_dir():  # an old interrupted sweep: only --resume continues it
+        shutil.rmtree(folder.resume, ignore_errors=True)
+    with folder as tmp:
+        if resume:
+            _adopt_stale(folder, tmp, CHECKPOINT)
+        with _Bar() as bar:
+            m = run_sweep(sc, plan, invalid, tmp, workers=workers, scheduler=scheduler, progress=bar,
+                          command=_command_line(), keep_images=keep_images)
+    out.print(f"{m['sweep_points_ok']} of {m['sweep_points']} points x {m['sweep_realisations']} realisations in "
+              f"{m['sweep_seconds']:.1f} s; report: {Path(out_dir) / 'report.html'}", highlight=False)
+
+
+def _adopt_stale(folder, tmp: Path, name: str) -> None:
+    """Move the runs of a sweep killed without cleaning up (a stale ``.NAME.tmp-*`` folder: its
+    lock is free, since this process holds it now) into this run's checkpoint."""
+    dst = tmp / name
+    for stale in sorted(folder.parent.glob(f".{folder.name}.tmp-*")):
+        if stale == tmp or not (stale / name).is_dir():
+            continue
+        dst.mkdir(exist_ok=True)
+        for p in (stale / name).iterdir():
+            if not (dst / p.name).exists():
+                os.replace(p, dst / p.name)
+        shutil.rmtree(stale, ignore_errors=True)

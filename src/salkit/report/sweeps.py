@@ -1,0 +1,59 @@
+"""Running a sweep into a run folder: the points on Dask (or in this process), checkpointed in
+``checkpoint/`` while it runs, then ``sweep.nc``, ``sweep.csv``, the figures, ``metrics.json`` and
+``report.html`` (:func:`salkit.report.writers.write_sweep`)."""
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+from ..resources import dask_client
+from ..studies.engine import as_result, execute
+from .run import write_run
+
+#: The folder of the checkpoint inside a sweep's run folder (removed once the sweep is written).
+CHECKPOINT = "checkpoint"
+#: The folder of every run's images with ``--keep-images``.
+IMAGES = "images"
+
+
+def run_sweep(scenario, plan, invalid: dict, out_dir, *, workers: int | None = None, scheduler: str | None = None,
+              progress=None, command: str | None = None, index: str | None = None, keep_images: bool = False) -> dict:
+    """Run a prepared sweep (:func:`salkit.studies.plan.prepare`) and write it into ``out_dir``.
+
+    Parameters
+    ----------
+    scenario : Scenario or DownlookingScenario
+        The base scenario (its name and description head the report).
+    plan : SweepPlan
+    invalid : dict
+        Point -> reason.
+    out_dir : path
+        The (temporary) run folder; a ``checkpoint`` folder already there is resumed.
+    workers : int, optional
+        Local Dask workers (default one per core; 0: this process).
+    scheduler : str, optional
+        An existing Dask scheduler's address.
+    progress : callable, optional
+        ``progress(stage, done, total)``.
+    command, index : str, optional
+        As :func:`salkit.report.write_run`.
+    keep_images : bool
+        Keep every run's images in ``images/`` (``p<point>_r<realisation>_image.nc``).
+
+    Returns
+    -------
+    dict
+        The sweep's metrics.
+    """
+    out = Path(out_dir)
+    images = out / IMAGES if keep_images else None
+    if images is not None:
+        images.mkdir(exist_ok=True)
+    tick = (lambda d, n: progress("runs", d, n)) if progress is not None else None
+    if scheduler is None and workers == 0:
+        ds = execute(plan, invalid, checkpoint=out / CHECKPOINT, progress=tick, images=images)
+    else:
+        with dask_client(scheduler, workers) as client:
+            ds = execute(plan, invalid, client=client, checkpoint=out / CHECKPOINT, progress=tick, images=images)
+    shutil.rmtree(out / CHECKPOINT)
+    return write_run(as_result(ds, scenario.name, scenario.description), out, command=command, index=index)

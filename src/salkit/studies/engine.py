@@ -1,0 +1,436 @@
+"""Running a sweep: each (point, realisation) runs what ``salkit run`` runs for its scenario, up to
+its metrics; finished runs are stored one file each as they complete (the checkpoint), so an
+interrupted sweep resumes with only what is missing; the results become one labelled dataset.
+
+Runs go through Dask when a client is given (a local cluster by default from the command line,
+or an existing scheduler's), in this process otherwise. The numbers do not depend on which: each
+run's random fields come from its realisation's seeds alone.
+"""
+from __future__ import annotations
+
+import json
+import tempfile
+import time
+from pathlib import Path
+from typing import Callable, Optional
+
+import lazy_loader as _lazy
+import numpy as np
+import xarray as xr
+import yaml
+
+from .. import __version__
+from ..errors import SalkitError, ScenarioError
+from ..io.datasets import write_dataset, write_json_atomic
+from ..params.scenario import dump_scenario, parse_scenario
+from ..systems import run_workflow
+from ..systems.result import RunResult
+from ..units import unit_of
+from .plan import SweepPlan, check_points, make_plan
+from .spec import Axis, parse_vary
+
+_dask_distributed = _lazy.load("dask.distributed", suppress_warning=True)
+
+#: Suffixes of metric names that carry their unit; a metric's theory is named with ``_theory`` before it.
+UNIT_SUFFIXES = ("_m", "_db", "_rad", "_s", "_hz", "_deg", "_w")
+
+
+def theory_name(name: str) -> str:
+    """The name of a metric's theory value: ``irw_range_m`` -> ``irw_range_theory_m``,
+    ``snr_single`` -> ``snr_single_theory``.
+
+    Parameters
+    ----------
+    name : str
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> theory_name("irw_range_m"), theory_name("pslr_azimuth_db"), theory_name("image_snr")
+    ('irw_range_theory_m', 'pslr_azimuth_theory_db', 'image_snr_theory')
+    """
+    for suf in UNIT_SUFFIXES:
+        if name.endswith(suf):
+            return name[: -len(suf)] + "_theory" + suf
+    return name + "_theory"
+
+
+def select_metrics(metrics: dict, wanted) -> dict:
+    """The numeric metrics a sweep keeps: ``wanted`` (all when empty) and each one's theory value.
+
+    Parameters
+    ----------
+    metrics : dict
+        A run's metrics.
+    wanted : sequence of str
+
+    Returns
+    -------
+    dict
+        Name -> float.
+    """
+    def num(v):
+        return isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool)
+    names = list(wanted) or [k for k, v in metrics.items() if num(v)]
+    out = {}
+    for n in names:
+        for k in (n, theory_name(n)):
+            if k in metrics and num(metrics[k]):
+                out[k] = float(metrics[k])
+    return out
+
+
+def run_point(data: dict, metrics=(), keep_images: bool = False) -> dict:
+    """Run one (point, realisation): its workflow up to the metrics (no files kept).
+
+    Parameters
+    ----------
+    data : dict
+        The scenario as plain data.
+    metrics : sequence of str
+        Metrics to keep (empty: all numeric ones).
+    keep_images : bool
+        Also return the run's image datasets (``image*.nc``).
+
+    Returns
+    -------
+    dict
+        ``status`` ("ok" or the reason it could not run), ``metrics`` (name -> float),
+        ``seconds``, and with ``keep_images`` ``images`` (file name -> dataset).
+    """
+    t0 = time.perf_counter()
+    try:
+        sc = parse_scenario(data)
+        with tempfile.TemporaryDirectory(prefix="salkit-sweep-") as tmp:
+            result = run_workflow(sc, tmp)
+        rec = {"status": "ok", "metrics": select_metrics(result.metrics, metrics), "seconds": time.perf_counter() - t0}
+        if keep_images:
+            rec["images"] = {k: v for k, v in result.datasets.items() if k.startswith("image")}
+        return rec
+    except SalkitError as e:
+        return {"status": f"failed: {e}", "metrics": {}, "seconds": time.perf_counter() - t0}
+
+
+class Checkpoint:
+    """A folder holding one JSON file per finished (point, realisation) and the sweep's
+    fingerprint; written atomically, read back on resume.
+
+    Parameters
+    ----------
+    folder : Path
+    plan : SweepPlan
+
+    Raises
+    ------
+    SalkitError
+        When the folder holds the checkpoint of another sweep.
+    """
+
+    def __init__(self, folder, plan: SweepPlan):
+        self.folder = Path(folder)
+        self.folder.mkdir(parents=True, exist_ok=True)
+        head = self.folder / "sweep.json"
+        fp = plan.fingerprint()
+        if head.is_file():
+            if json.loads(head.read_text()).get("fingerprint") != fp:
+                raise SalkitError(f"{self.folder}: the checkpoint belongs to another sweep (scenario or "
+                                  "definition differs); start again with --overwrite")
+        else:
+            write_json_atomic(head, {"fingerprint": fp, "sweep": plan.definition()})
+
+    def path(self, i: int, r: int) -> Path:
+        """File of point ``i``, realisation ``r``."""
+        return self.folder / f"p{i:06d}_r{r:04d}.json"
+
+    def done(self) -> dict:
+        """Every stored run: (i, r) -> its record."""
+        out = {}
+        for p in sorted(self.folder.glob("p*_r*.json")):
+            try:
+                rec = json.loads(p.read_text())
+            except (OSError, ValueError):
+                continue  # a torn file cannot exist (atomic writes); skip anything unreadable
+            out[(rec["point"], rec["realisation"])] = rec
+        return out
+
+    def store(self, i: int, r: int, rec: dict) -> None:
+        """Store one run's record."""
+        write_json_atomic(self.path(i, r), {"point": i, "realisation": r, **rec})
+
+
+def sweep(scenario, vary, *, zip: bool = False, realisations: int = 1, metrics=(), client=None,
+          checkpoint=None, progress: Optional[Callable[[int, int], None]] = None) -> xr.Dataset:
+    """Run a parameter sweep with realisations: each point's metrics against the varied fields.
+
+    Parameters
+    ----------
+    scenario : Scenario or DownlookingScenario
+        The base scenario.
+    vary : dict or sequence
+        Field -> SPEC string (``"lin:1e9:7.5e9:7"``, ``"log:1e-15:1e-13:5"``, ``"bp,pfa"``) or a
+        sequence of values; or a sequence of :class:`~salkit.studies.spec.Axis`.
+    zip : bool
+        Pair the axes' values instead of spanning the full grid.
+    realisations : int
+        Realisations per point; realisation 0 is the scenario's own seeds, every point sees the
+        same realisations.
+    metrics : sequence of str
+        Metrics to keep (and their theory values); empty: every numeric metric.
+    client : dask.distributed.Client, optional
+        Where the runs go; default: this process, one after another.
+    checkpoint : path, optional
+        Folder of the checkpoint: finished runs are stored there and not run again.
+    progress : callable, optional
+        ``progress(done, total)`` in runs.
+
+    Returns
+    -------
+    xarray.Dataset
+        See :func:`assemble`.
+
+    Raises
+    ------
+    ScenarioError
+        A bad axis, a misspelt field, or every point invalid.
+    """
+    plan = plan_of(scenario, vary, zip, realisations, metrics)
+    bad = check_points(plan)
+    return execute(plan, bad, client=client, checkpoint=checkpoint, progress=progress)
+
+
+def plan_of(scenario, vary, zip=False, realisations=1, metrics=()) -> SweepPlan:
+    """A :class:`SweepPlan` from the arguments of :func:`sweep`.
+
+    Parameters
+    ----------
+    scenario, vary, zip, realisations, metrics
+        As :func:`sweep`.
+
+    Returns
+    -------
+    SweepPlan
+    """
+    if isinstance(vary, dict):
+        axes = [parse_vary(f"{k}={v}") if isinstance(v, str) else
+                parse_vary(f"{k}=" + ",".join(json.dumps(x) for x in v)) for k, v in vary.items()]
+    else:
+        axes = [a if isinstance(a, Axis) else parse_vary(a) for a in vary]
+    return make_plan(scenario, axes, zipped=zip, realisations=realisations, metrics=metrics)
+
+
+def execute(plan: SweepPlan, invalid: dict, *, client=None, checkpoint=None,
+            progress: Optional[Callable[[int, int], None]] = None, images=None) -> xr.Dataset:
+    """Run every (point, realisation) not in the checkpoint and not invalid; assemble the results.
+
+    Parameters
+    ----------
+    plan : SweepPlan
+    invalid : dict
+        Point -> reason (:func:`~salkit.studies.plan.check_points`).
+    client : dask.distributed.Client, optional
+    checkpoint : path, optional
+    progress : callable, optional
+    images : path, optional
+        Keep each run's images there, as ``p<point>_r<realisation>_<name>.nc``.
+
+    Returns
+    -------
+    xarray.Dataset
+
+    Raises
+    ------
+    ScenarioError
+        When every point is invalid.
+    """
+    if len(invalid) == plan.n_points:
+        first = next(iter(invalid.values()))
+        raise ScenarioError("--vary", f"all {plan.n_points} points", f"none can run; the first: {first}")
+    store = Checkpoint(checkpoint, plan) if checkpoint is not None else None
+    records = store.done() if store is not None else {}
+    todo = [(i, r) for i in range(plan.n_points) if i not in invalid for r in range(plan.realisations)
+            if (i, r) not in records]
+    total, done = plan.n_points * plan.realisations - len(invalid) * plan.realisations, len(records)
+    t0 = time.perf_counter()
+
+    def keep(i, r, rec):
+        nonlocal done
+        for name, ds in rec.pop("images", {}).items():
+            write_dataset(ds, Path(images) / f"p{i:06d}_r{r:04d}_{name}")
+        records[(i, r)] = rec
+        if store is not None:
+            store.store(i, r, rec)
+        done += 1
+        if progress is not None:
+            progress(done, total)
+
+    if progress is not None:
+        progress(done, total)
+    if client is None:
+        for i, r in todo:
+            keep(i, r, run_point(plan.point_data(i, r), plan.metrics, images is not None))
+    else:
+        futures = {client.submit(run_point, plan.point_data(i, r), plan.metrics, images is not None, pure=False,
+                                 key=f"salkit-sweep-{plan.fingerprint()[:12]}-{i}-{r}"): (i, r) for i, r in todo}
+        for fut in _dask_distributed.as_completed(futures):
+            i, r = futures[fut]
+            keep(i, r, fut.result())
+            fut.release()
+    ds = assemble(plan, invalid, records)
+    ds.attrs["sweep_seconds"] = float(time.perf_counter() - t0)
+    return ds
+
+
+def assemble(plan: SweepPlan, invalid: dict, records: dict) -> xr.Dataset:
+    """The sweep's dataset: one variable per metric (float64, NaN where a run has none), dims the
+    varied fields (``point`` when zipped) and ``realisation``; ``status`` per point ("ok", or why
+    it could not run); the base scenario and the definition in the attributes.
+
+    Parameters
+    ----------
+    plan : SweepPlan
+    invalid : dict
+        Point -> reason.
+    records : dict
+        (point, realisation) -> :func:`run_point`'s record.
+
+    Returns
+    -------
+    xarray.Dataset
+    """
+    names = sorted({k for rec in records.values() for k in rec["metrics"]})
+    shape = plan.shape + (plan.realisations,)
+    data = {n: np.full(shape, np.nan) for n in names}
+    status = np.full(plan.shape, "ok", dtype=object)
+    seconds = np.full(shape, np.nan)
+    for i in range(plan.n_points):
+        idx = (i,) if plan.zipped else np.unravel_index(i, plan.shape)
+        if i in invalid:
+            status[idx] = f"invalid: {invalid[i]}"
+            continue
+        for r in range(plan.realisations):
+            rec = records.get((i, r))
+            if rec is None:
+                status[idx] = "missing"
+                continue
+            if rec["status"] != "ok":
+                status[idx] = rec["status"]
+            seconds[idx + (r,)] = rec.get("seconds", np.nan)
+            for k, v in rec["metrics"].items():
+                data[k][idx + (r,)] = v
+    if plan.zipped:
+        dims = ("point",)
+        coords = {"point": np.arange(plan.n_points)}
+        for a in plan.axes:
+            coords[a.field] = ("point", np.asarray(a.values), _axis_attrs(a))
+    else:
+        dims = tuple(a.field for a in plan.axes)
+        coords = {a.field: (a.field, np.asarray(a.values), _axis_attrs(a)) for a in plan.axes}
+    coords["realisation"] = np.arange(plan.realisations)
+    vars_ = {n: (dims + ("realisation",), data[n], {"units": unit_of(n) or "1"}) for n in names}
+    vars_["status"] = (dims, status.astype(str))
+    vars_["run_seconds"] = (dims + ("realisation",), seconds, {"units": "s"})
+    attrs = {"salkit_kind": "sweep", "salkit_version": __version__, "scenario": dump_scenario(parse_scenario(plan.base)),
+             "sweep": json.dumps(plan.definition()), "points": plan.n_points, "points_invalid": len(invalid),
+             "realisations": plan.realisations}
+    return xr.Dataset(vars_, coords=coords, attrs=attrs)
+
+
+def _axis_attrs(a) -> dict:
+    unit = unit_of(a.field.split(".")[-1]) if a.numeric else ""
+    return {"units": unit or "1", "scale": a.scale, "spec": a.spec}
+
+
+def summary(ds: xr.Dataset) -> dict:
+    """Flat numbers of a sweep for ``metrics.json``: counts, time, and for each metric with a
+    theory the largest deviation of its median from it, ``|median / theory - 1|``.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        From :func:`assemble`.
+
+    Returns
+    -------
+    dict
+    """
+    ok = ds["status"].values == "ok"
+    out = {"sweep_points": int(ds.attrs["points"]), "sweep_points_ok": int(ok.sum()),
+           "sweep_points_invalid": int(ds.attrs["points_invalid"]), "sweep_realisations": int(ds.attrs["realisations"]),
+           "sweep_seconds": float(ds.attrs.get("sweep_seconds", np.nan)),
+           "sweep_run_seconds_median": float(np.nanmedian(ds["run_seconds"].values))
+           if np.isfinite(ds["run_seconds"].values).any() else float("nan")}
+    base = parse_scenario(yaml.safe_load(ds.attrs["scenario"]))
+    # theory is the unperturbed limit where turbulence or a phase error perturbs the image: no verdict
+    out["sweep_perturbed"] = int(not base.is_downlooking and (base.atmosphere is not None
+                                                             or base.platform.phase_error is not None))
+    for name in measured_metrics(ds):
+        t = theory_name(name)
+        if t in ds.data_vars:
+            med = ds[name].median("realisation", skipna=True).values
+            th = ds[t].median("realisation", skipna=True).values
+            with np.errstate(divide="ignore", invalid="ignore"):
+                dev = np.abs(med / th - 1)
+            if np.isfinite(dev).any():
+                out[f"{name}_over_theory_max_deviation"] = float(np.nanmax(dev))
+    return out
+
+
+def measured_metrics(ds: xr.Dataset) -> list[str]:
+    """The measured metrics of a sweep (not theory values, not the status or run times).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+
+    Returns
+    -------
+    list of str
+    """
+    theories = {theory_name(n) for n in ds.data_vars}
+    return [n for n in ds.data_vars if n not in ("status", "run_seconds") and n not in theories
+            and "_theory" not in n]
+
+
+def table(ds: xr.Dataset) -> str:
+    """The sweep as CSV: one row per point, its varied values, status, and each metric's median.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+
+    Returns
+    -------
+    str
+    """
+    axes = json.loads(ds.attrs["sweep"])["axes"]
+    fields = [a["field"] for a in axes]
+    names = [n for n in ds.data_vars if n not in ("status", "run_seconds")]
+    med = {n: ds[n].median("realisation", skipna=True) for n in names}
+    lines = [",".join(fields + ["status"] + names)]
+    st = ds["status"]
+    for idx in np.ndindex(st.shape):
+        sel = dict(zip(st.dims, idx))
+        vals = [str(ds[f].isel({k: v for k, v in sel.items() if k in ds[f].dims}).item()) for f in fields]
+        row = vals + ['"' + str(st.values[idx]).replace('"', "'") + '"'] + [f"{float(med[n].isel(sel)):.6g}" for n in names]
+        lines.append(",".join(row))
+    return "\n".join(lines) + "\n"
+
+
+def as_result(ds: xr.Dataset, name: str, description: str = "") -> RunResult:
+    """A sweep as a :class:`~salkit.systems.result.RunResult` for the report layer: ``sweep.nc``,
+    ``sweep.csv`` and the summary metrics.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+    name, description : str
+
+    Returns
+    -------
+    RunResult
+    """
+    return RunResult("sweep", name, description, ds.attrs["scenario"], summary(ds), datasets={"sweep.nc": ds},
+                     tables={"sweep.csv": table(ds)}, figures={"metrics": measured_metrics(ds)})

@@ -1,0 +1,35 @@
+"""A sweep written into its folder: sweep.nc, sweep.csv, a figure per metric with its theory,
+metrics.json, a report whose links resolve, the checkpoint gone; a card on the index page."""
+import json
+import re
+
+from salkit.params import parse_scenario
+from salkit.report.index import headline, write_index
+from salkit.report.sweeps import run_sweep
+from salkit.studies.plan import check_points, make_plan
+from salkit.studies.spec import parse_vary
+
+from ..conftest import SPOT
+
+
+def test_run_sweep_writes_its_folder(tmp_path):
+    sc = parse_scenario(SPOT)
+    plan = make_plan(sc, [parse_vary("waveform.bandwidth=5e9,7.5e9"), parse_vary("processing.window=none,taylor")],
+                     metrics=["irw_range_m"])
+    d = tmp_path / "run"
+    d.mkdir()
+    stages = []
+    m = run_sweep(sc, plan, check_points(plan), d, workers=0, progress=lambda s, k, n: stages.append((s, k, n)))
+    assert stages[-1] == ("runs", 4, 4)
+    for f in ("sweep.nc", "sweep.csv", "metrics.json", "report.html", "scenario.yaml", "sweep_irw_range_m.png"):
+        assert (d / f).is_file(), f
+    assert not (d / "checkpoint").exists()
+    assert json.loads((d / "metrics.json").read_text()) == m and m["sweep_points_ok"] == 4
+    html = (d / "report.html").read_text()
+    for ref in re.findall(r'(?:src|href)="([^"#:]+)"', html):
+        assert (d / ref).is_file(), ref
+    assert "waveform.bandwidth" in html and "processing.window" in html
+    items = headline(m)
+    assert items[0]["measured"] == "4 of 4" and any(i["label"] == "irw_range_m, worst point" and i["ok"] for i in items)
+    write_index(tmp_path, [{"name": "run", "description": "d", "seconds": 1.0, "metrics": m}])
+    assert 'src="run/sweep_irw_range_m.png"' in (tmp_path / "index.html").read_text()

@@ -1,0 +1,92 @@
+"""Running a sweep: range IRW against bandwidth on theory at every point; the same numbers in this
+process and on Dask workers; a checkpointed sweep interrupted and resumed equals the uninterrupted
+one and reruns nothing; invalid points recorded; the dataset written and described."""
+import numpy as np
+import pytest
+
+from salkit.errors import ScenarioError
+from salkit.io import describe, open_dataset, write_dataset
+from salkit.params import parse_scenario
+from salkit.studies import sweep
+from salkit.studies.engine import execute, plan_of, summary
+from salkit.studies.plan import check_points
+
+from ..conftest import SPOT, merge
+
+C = 299792458.0
+NOISY = merge(SPOT, receiver__noise={"enabled": True, "signal_photons": 20.0})
+
+
+def _numbers(ds):
+    return {k: v.values for k, v in ds.data_vars.items() if k != "run_seconds"}
+
+
+def test_range_irw_against_bandwidth_on_theory():
+    ds = sweep(parse_scenario(SPOT), {"waveform.bandwidth": "lin:2.5e9:7.5e9:5"}, metrics=["irw_range_m"])
+    irw = ds["irw_range_m"].isel(realisation=0).values
+    th = ds["irw_range_theory_m"].isel(realisation=0).values
+    B = ds["waveform.bandwidth"].values
+    assert (ds["status"].values == "ok").all()
+    assert np.all(np.abs(irw / th - 1) < 0.02), irw / th
+    assert np.ptp(th * B) / np.mean(th * B) < 1e-3  # the theory falls as 1/B ...
+    assert np.mean(th * B) == pytest.approx(0.886 * C / 2, rel=0.03)  # ... as 0.886 c / 2B
+    assert ds["waveform.bandwidth"].attrs["units"] == "Hz" and ds["irw_range_m"].attrs["units"] == "m"
+    assert summary(ds)["irw_range_m_over_theory_max_deviation"] < 0.02
+
+
+def test_same_numbers_in_process_and_on_dask():
+    dd = pytest.importorskip("dask.distributed")
+    sc = parse_scenario(NOISY)
+    args = dict(realisations=2, metrics=["peak_amplitude", "irw_azimuth_m"])
+    vary = {"processing.window": "none,hamming"}
+    a = sweep(sc, vary, **args)
+    with dd.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cl, \
+            dd.Client(cl) as client:
+        b = sweep(sc, vary, client=client, **args)
+    for k, v in _numbers(a).items():
+        np.testing.assert_array_equal(v, _numbers(b)[k], err_msg=k)
+    pk = a["peak_amplitude"].values
+    assert pk[0, 0] != pk[0, 1]  # the realisations differ ...
+    assert np.array_equal(sweep(sc, vary, **args)["peak_amplitude"].values, pk)  # ... and repeat exactly
+
+
+def test_interrupted_then_resumed_equals_uninterrupted(tmp_path):
+    sc = parse_scenario(NOISY)
+    plan = plan_of(sc, {"waveform.bandwidth": "5e9,7.5e9"}, realisations=2, metrics=["peak_amplitude"])
+    whole = execute(plan, {})
+    seen = []
+
+    def stop_after_two(done, total):
+        seen.append(done)
+        if done == 2:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        execute(plan, {}, checkpoint=tmp_path / "ck", progress=stop_after_two)
+    assert len(list((tmp_path / "ck").glob("p*_r*.json"))) == 2
+    resumed_from = []
+    again = execute(plan, {}, checkpoint=tmp_path / "ck", progress=lambda d, n: resumed_from.append(d))
+    assert resumed_from[0] == 2 and resumed_from[-1] == 4  # only the two missing runs ran
+    for k, v in _numbers(whole).items():
+        np.testing.assert_array_equal(v, _numbers(again)[k], err_msg=k)
+    other = plan_of(sc, {"waveform.bandwidth": "5e9,6e9"}, realisations=2, metrics=["peak_amplitude"])
+    with pytest.raises(Exception, match="belongs to another sweep"):
+        execute(other, {}, checkpoint=tmp_path / "ck")
+
+
+def test_invalid_points_recorded_all_invalid_refused(tmp_path):
+    sc = parse_scenario(SPOT)
+    plan = plan_of(sc, {"waveform.prf": "25000,50"}, metrics=["irw_range_m"])
+    bad = check_points(plan)
+    ds = execute(plan, bad)
+    assert ds["status"].values[0] == "ok" and ds["status"].values[1].startswith("invalid: ")
+    assert np.isnan(ds["irw_range_m"].values[1]).all() and np.isfinite(ds["irw_range_m"].values[0]).all()
+    allbad = plan_of(sc, {"waveform.prf": "50,60"})
+    with pytest.raises(ScenarioError, match="none can run"):
+        execute(allbad, check_points(allbad))
+    p = write_dataset(ds, tmp_path / "sweep.nc")
+    back = open_dataset(p)
+    np.testing.assert_array_equal(back["irw_range_m"].values, ds["irw_range_m"].values)
+    assert list(back["status"].values) == list(ds["status"].values)
+    info = describe(p)
+    assert info["kind"] == "sweep" and info["variables"]["irw_range_m"]["dims"] == ["waveform.prf", "realisation"]

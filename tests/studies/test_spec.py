@@ -1,0 +1,40 @@
+"""Sweep axes: the three SPEC forms, and every malformed one refused naming --vary before any work."""
+import numpy as np
+import pytest
+
+from salkit.errors import ScenarioError
+from salkit.studies import parse_vary
+
+
+def test_forms():
+    a = parse_vary("waveform.bandwidth=lin:1e9:7e9:4")
+    assert a.field == "waveform.bandwidth" and a.scale == "lin" and a.numeric
+    np.testing.assert_allclose(a.values, [1e9, 3e9, 5e9, 7e9])
+    g = parse_vary("atmosphere.cn2=log:1e-16:1e-12:5")
+    np.testing.assert_allclose(g.values, [1e-16, 1e-15, 1e-14, 1e-13, 1e-12], rtol=1e-12)
+    assert parse_vary("processing.algorithm=bp, pfa").values == ("bp", "pfa")
+    assert parse_vary("receiver.noise.signal_photons=1,2.5,10").values == (1, 2.5, 10)
+    assert parse_vary("x.y=lin:3:3:1").values == (3.0,)
+
+
+@pytest.mark.parametrize("item,words", [
+    ("waveform.bandwidth", "FIELD=SPEC"),
+    ("=1,2", "field path is empty"),
+    ("a..b=1,2", "empty part"),
+    ("a.b=lin:1:2", "lin:START:STOP:N"),
+    ("a.b=lin:1:2:0", "positive integer"),
+    ("a.b=lin:1:2:-3", "positive integer"),
+    ("a.b=lin:1:2:2.5", "positive integer"),
+    ("a.b=lin:x:2:3", "not a number"),
+    ("a.b=lin:1:inf:3", "finite"),
+    ("a.b=log:0:1:3", "cannot pass through zero or negative"),
+    ("a.b=log:-1e-3:1:3", "cannot pass through zero or negative"),
+    ("a.b=", "empty"),
+    ("a.b=1,,2", "empty entry"),
+    ("a.b=1,2,1", "repeats a value"),
+    ("a.b=lin:0:1:100000", "exceeds"),
+])
+def test_malformed_refused(item, words):
+    with pytest.raises(ScenarioError) as e:
+        parse_vary(item)
+    assert e.value.field == "--vary" and e.value.value == item and words in e.value.constraint
