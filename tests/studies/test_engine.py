@@ -1,5 +1,5 @@
 """Running a sweep: range IRW against bandwidth on theory at every point; the same numbers in this
-process and on Dask workers; a checkpointed sweep interrupted and resumed equals the uninterrupted
+process and on Dask workers, one of them killed mid-point; a checkpointed sweep interrupted and resumed equals the uninterrupted
 one and reruns nothing; invalid points recorded; the dataset written and described."""
 import numpy as np
 import pytest
@@ -32,22 +32,6 @@ def test_range_irw_against_bandwidth_on_theory():
     assert np.mean(th * B) == pytest.approx(0.886 * C / 2, rel=0.03)  # ... as 0.886 c / 2B
     assert ds["waveform.bandwidth"].attrs["units"] == "Hz" and ds["irw_range_m"].attrs["units"] == "m"
     assert summary(ds)["irw_range_m_over_theory_max_deviation"] < 0.02
-
-
-def test_same_numbers_in_process_and_on_dask():
-    dd = pytest.importorskip("dask.distributed")
-    sc = parse_scenario(NOISY)
-    args = dict(realisations=2, metrics=["peak_amplitude", "irw_azimuth_m"])
-    vary = {"processing.window": "none,hamming"}
-    a = sweep(sc, vary, **args)
-    with dd.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cl, \
-            dd.Client(cl) as client:
-        b = sweep(sc, vary, client=client, **args)
-    for k, v in _numbers(a).items():
-        np.testing.assert_array_equal(v, _numbers(b)[k], err_msg=k)
-    pk = a["peak_amplitude"].values
-    assert pk[0, 0] != pk[0, 1]  # the realisations differ ...
-    assert np.array_equal(sweep(sc, vary, **args)["peak_amplitude"].values, pk)  # ... and repeat exactly
 
 
 def test_interrupted_then_resumed_equals_uninterrupted(tmp_path):
@@ -90,3 +74,37 @@ def test_invalid_points_recorded_all_invalid_refused(tmp_path):
     assert list(back["status"].values) == list(ds["status"].values)
     info = describe(p)
     assert info["kind"] == "sweep" and info["variables"]["irw_range_m"]["dims"] == ["waveform.prf", "realisation"]
+
+
+def dies_once(data, metrics=(), keep_images=False):
+    """Kills its Dask worker process the first time any worker runs it (a marker file records it)."""
+    import os
+    from pathlib import Path
+
+    from salkit.studies.engine import run_point
+    marker = Path(os.environ["SALKIT_TEST_DIE_MARKER"])
+    if not marker.exists():
+        marker.write_text("died")
+        os._exit(1)
+    return run_point(data, metrics, keep_images)
+
+
+def test_same_numbers_on_dask_even_when_a_worker_dies_mid_point(tmp_path):
+    """Two Dask workers, one killed by its first run: the point is run again elsewhere, and every
+    number equals the in-process sweep's; realisations differ from each other and repeat exactly."""
+    dd = pytest.importorskip("dask.distributed")
+    sc = parse_scenario(NOISY)
+    plan = plan_of(sc, {"processing.window": "none,hamming"}, realisations=2,
+                   metrics=["peak_amplitude", "irw_azimuth_m"])
+    here = execute(plan, {})
+    marker = tmp_path / "died"
+    with dd.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                         env={"SALKIT_TEST_DIE_MARKER": str(marker)}) as cl, dd.Client(cl) as client:
+        there = execute(plan, {}, client=client, runner=dies_once)
+    assert marker.read_text() == "died"  # a worker did die, mid-point
+    assert (there["status"].values == "ok").all()
+    for k, v in _numbers(here).items():
+        np.testing.assert_array_equal(v, _numbers(there)[k], err_msg=k)
+    pk = here["peak_amplitude"].values
+    assert pk[0, 0] != pk[0, 1]  # the realisations differ ...
+    assert np.array_equal(execute(plan, {})["peak_amplitude"].values, pk)  # ... and repeat exactly

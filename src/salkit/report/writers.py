@@ -178,6 +178,8 @@ WRITERS["downlooking"] = write_downlooking
 
 #: Most metrics a sweep's page draws (the ones asked for, else those with a theory first).
 SWEEP_FIGURES = 12
+#: Most points the page's table lists (sweep.csv holds them all).
+SWEEP_TABLE_ROWS = 200
 
 
 def write_sweep(result: RunResult, out: Path, page: dict | None = None) -> None:
@@ -207,8 +209,11 @@ def write_sweep(result: RunResult, out: Path, page: dict | None = None) -> None:
                          "alt": f"{n} against {axes[0]['field']}, median over the realisations with the 5-95 % band"})
     status = ds["status"].values.ravel()
     problems = sorted({s for s in status if s != "ok"})
+    lines = result.tables["sweep.csv"].splitlines()
+    header, rows = lines[0].split(","), [ln.split(",") for ln in lines[1:SWEEP_TABLE_ROWS + 1]]
     render(out, "sweep.html", result, page, axes=axes, zipped=sweep["zip"], realisations=sweep["realisations"],
-           figs=figs, problems=problems, n_bad=int((status != "ok").sum()))
+           figs=figs, problems=problems, n_bad=int((status != "ok").sum()), header=header,
+           rows=[[c.strip('"') for c in r] for r in rows], more=max(0, len(lines) - 1 - SWEEP_TABLE_ROWS))
 
 
 WRITERS["sweep"] = write_sweep

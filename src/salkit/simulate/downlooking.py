@@ -326,22 +326,43 @@ def simulate_factored(scat: DLScatterers, exp, design: DLDesign, Y: np.ndarray,
         return out
     x_in, yq, dz = x_in[keep], scat.y[keep], scat.d_z[keep]
     w = (scat.amplitude[keep] * (design.range / dz) ** 2) ** 2
+    kx, ky = np.pi / (lam * o.focal_x), 2 * np.pi / (lam * o.focal_y)
     for q0 in range(0, x_in.size, chunk):
         sl = slice(q0, q0 + chunk)
-        xq = x_in[sl][None, :]
-        tt = t[:, None]
         for parity in (0, 1):
             sgn = 1.0 if parity == 0 else -1.0
-            s_v = sgn * s.speed * tt + o.bias_common + o.bias_opposite
-            s_p = -sgn * s.speed * tt + o.bias_common - o.bias_opposite
-            X = np.exp(1j * (np.pi / (lam * o.focal_x)) * ((xq - s_v) ** 2 - (xq - s_p) ** 2)).astype(np.complex64)
+            # (x - s_V)^2 - (x - s_P)^2 = (s_P - s_V)(2x - s_V - s_P), s_V + s_P = 2 bias_common
+            X = _along_factor(t, x_in[sl], kx, -2.0 * (sgn * s.speed), -2.0 * o.bias_opposite, o.bias_common)
             rows = np.arange(parity, Y.size, 2)
-            y_in = -o.focal_transmit * (yq[sl][None, :] - Y[rows][:, None]) / dz[sl][None, :]
-            lit = np.abs(y_in) <= 0.5 * o.stop_y
-            Ym = np.where(lit, w[sl][None, :] * np.exp(1j * (2 * np.pi / (lam * o.focal_y)) * y_in ** 2), 0)
-            if differential is not None:
-                Ym = Ym * np.exp(-1j * differential[rows])[:, None]
-            out[rows] += (4 * c * sn) * np.real(Ym.astype(np.complex64) @ X.T)
+            diff = differential[rows] if differential is not None else np.zeros(rows.size)
+            Ym = _scan_factor(Y[rows], diff, yq[sl], dz[sl], w[sl], ky, -o.focal_transmit, 0.5 * o.stop_y)
+            out[rows] += (4 * c * sn) * np.real(Ym @ X.T)
+    return out
+
+
+@nb.njit(parallel=True, cache=True)
+def _along_factor(t, x, k, rate, offset, centre):
+    """X(t, q) = exp(j k (rate t + offset) 2 (x_q - centre)), complex64, the phase in float64."""
+    out = np.empty((t.size, x.size), np.complex64)
+    for i in nb.prange(t.size):
+        a = k * (rate * t[i] + offset)
+        for q in range(x.size):
+            ph = a * 2.0 * (x[q] - centre)
+            out[i, q] = complex(math.cos(ph), math.sin(ph))
+    return out
+
+
+@nb.njit(parallel=True, cache=True)
+def _scan_factor(Yr, diff, y, dz, w, k, scale, half_stop):
+    """Y(n, q) = w_q exp(j (k y_in^2 - diff_n)) inside the field stop (|y_in| <= half_stop), else 0,
+    with y_in = scale (y_q - Y_n) / dz_q; complex64, the phase in float64."""
+    out = np.zeros((Yr.size, y.size), np.complex64)
+    for n in nb.prange(Yr.size):
+        for q in range(y.size):
+            yi = scale * (y[q] - Yr[n]) / dz[q]
+            if abs(yi) <= half_stop:
+                ph = k * yi * yi - diff[n]
+                out[n, q] = complex(w[q] * math.cos(ph), w[q] * math.sin(ph))
     return out
 
 

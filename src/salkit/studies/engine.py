@@ -222,7 +222,8 @@ def plan_of(scenario, vary, zip=False, realisations=1, metrics=()) -> SweepPlan:
 
 
 def execute(plan: SweepPlan, invalid: dict, *, client=None, checkpoint=None,
-            progress: Optional[Callable[[int, int], None]] = None, images=None) -> xr.Dataset:
+            progress: Optional[Callable[[int, int], None]] = None, images=None,
+            runner: Optional[Callable[..., dict]] = None) -> xr.Dataset:
     """Run every (point, realisation) not in the checkpoint and not invalid; assemble the results.
 
     Parameters
@@ -235,6 +236,9 @@ def execute(plan: SweepPlan, invalid: dict, *, client=None, checkpoint=None,
     progress : callable, optional
     images : path, optional
         Keep each run's images there, as ``p<point>_r<realisation>_<name>.nc``.
+    runner : callable, optional
+        What runs one (point, realisation): :func:`run_point` (default) or a function of the same
+        signature, importable on the workers.
 
     Returns
     -------
@@ -270,9 +274,9 @@ def execute(plan: SweepPlan, invalid: dict, *, client=None, checkpoint=None,
         progress(done, total)
     if client is None:
         for i, r in todo:
-            keep(i, r, run_point(plan.point_data(i, r), plan.metrics, images is not None))
+            keep(i, r, (runner or run_point)(plan.point_data(i, r), plan.metrics, images is not None))
     else:
-        futures = {client.submit(run_point, plan.point_data(i, r), plan.metrics, images is not None, pure=False,
+        futures = {client.submit(runner or run_point, plan.point_data(i, r), plan.metrics, images is not None, pure=False,
                                  key=f"salkit-sweep-{plan.fingerprint()[:12]}-{i}-{r}"): (i, r) for i, r in todo}
         for fut in _dask_distributed.as_completed(futures):
             i, r = futures[fut]
