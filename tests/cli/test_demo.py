@@ -15,8 +15,9 @@ def test_every_demo_report_resolves(tmp_path):
     import re
     from salkit import __version__
     from salkit.cli.options import _examples_dir
-    assert main(["--out", str(tmp_path)]) == 0
+    assert main(["--out", str(tmp_path), "--sweep-realisations", "1"]) == 0  # the sweeps' files, not their statistics
     names = sorted(f.stem for f in _examples_dir().glob("*.yaml"))
+    names += sorted(f"sweep_{f.stem}" for f in (_examples_dir() / "sweeps").glob("*.yaml"))
     index = (tmp_path / "index.html").read_text()
     for ref in re.findall(r'(?:src|href)="([^"#:]+)"', index):
         assert (tmp_path / ref).is_file(), f"index.html -> {ref}"

@@ -41,6 +41,8 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--out", default="results")
     ap.add_argument("--only", nargs="*", default=None)
+    ap.add_argument("--sweep-realisations", type=int, default=None,
+                    help="realisations of every shipped sweep (default: DEMO_SWEEP_REALISATIONS, else the file's)")
     args = ap.parse_args(argv)
     from ..params import load_scenario
     from ..report import run_scenario
@@ -63,10 +65,11 @@ def main(argv=None) -> int:
             return sc.description, run_scenario(sc, tmp, progress=bar, command=command, index="../index.html")
 
     def study(f: Path):
-        request = resolve_request(f, realisations=DEMO_SWEEP_REALISATIONS.get(f.stem))
+        request = resolve_request(f, realisations=args.sweep_realisations or DEMO_SWEEP_REALISATIONS.get(f.stem))
         sc, plan, invalid = prepare(request)
         command = " ".join(["salkit sweep", f"examples/sweeps/{f.name}", "--out", str(out / f"sweep_{f.stem}"), "--workers 0"]
-                           + ([f"--realisations {request.realisations}"] if f.stem in DEMO_SWEEP_REALISATIONS else []))
+                           + ([f"--realisations {request.realisations}"]
+                              if args.sweep_realisations or f.stem in DEMO_SWEEP_REALISATIONS else []))
         with RunFolder(out / f"sweep_{f.stem}", overwrite=True, keep_on_failure=(CHECKPOINT,)) as tmp, _Bar() as bar:
             return request.description, run_sweep(sc, plan, invalid, tmp, workers=0, progress=bar,
                                                    index="../index.html", command=command)
