@@ -28,31 +28,54 @@ from ..geometry.ranges import differential_range, range_offsets
 ANCHOR = 64
 
 
-@njit(parallel=True, cache=True, error_model="numpy")
+#: Scatterers processed together (their phasors stay in the core's cache while the frequencies advance).
+KBLOCK = 512
+
+
+@njit(parallel=True, cache=True, error_model="numpy", fastmath={"reassoc"})
 def _phase_history_kernel(pos, ref, D, f0, df, M, pts, amp_re, amp_im, out_re, out_im):
+    # per pulse, blocks of scatterers; per frequency the block's phasors are summed (a reduction
+    # over scatterers, vectorised: "reassoc" lets the sum's order change, nothing else) and
+    # advanced by their frequency step; each phasor re-anchored exactly every ANCHOR frequencies
     P = pos.shape[0]
     K = pts.shape[0]
     four_pi_over_c = 4.0 * math.pi / 299792458.0
     for n in prange(P):
         acc_r = np.zeros(M)
         acc_i = np.zeros(M)
-        for k in range(K):
-            dR = differential_range(pts[k, 0], pts[k, 1], pts[k, 2], pos[n, 0], pos[n, 1], pos[n, 2], ref[n], D[n])
-            zr = math.cos(four_pi_over_c * df * dR)
-            zi = -math.sin(four_pi_over_c * df * dR)
-            ar = amp_re[k]
-            ai = amp_im[k]
+        dr = np.empty(KBLOCK)
+        zr = np.empty(KBLOCK)
+        zi = np.empty(KBLOCK)
+        er = np.empty(KBLOCK)
+        ei = np.empty(KBLOCK)
+        for k0 in range(0, K, KBLOCK):
+            kn = min(KBLOCK, K - k0)
+            for j in range(kn):
+                k = k0 + j
+                d = differential_range(pts[k, 0], pts[k, 1], pts[k, 2], pos[n, 0], pos[n, 1], pos[n, 2], ref[n], D[n])
+                dr[j] = d
+                zr[j] = math.cos(four_pi_over_c * df * d)
+                zi[j] = -math.sin(four_pi_over_c * df * d)
             for m0 in range(0, M, ANCHOR):
-                ph = -four_pi_over_c * (f0 + m0 * df) * dR
-                ph = ph - 2.0 * math.pi * np.floor(ph / (2.0 * math.pi))
-                er = math.cos(ph)
-                ei = math.sin(ph)
+                for j in range(kn):
+                    ph = -four_pi_over_c * (f0 + m0 * df) * dr[j]
+                    ph = ph - 2.0 * math.pi * np.floor(ph / (2.0 * math.pi))
+                    er[j] = math.cos(ph)
+                    ei[j] = math.sin(ph)
                 for m in range(m0, min(m0 + ANCHOR, M)):
-                    acc_r[m] += ar * er - ai * ei
-                    acc_i[m] += ar * ei + ai * er
-                    t = er * zr - ei * zi
-                    ei = er * zi + ei * zr
-                    er = t
+                    sr = 0.0
+                    si = 0.0
+                    for j in range(kn):
+                        ar = amp_re[k0 + j]
+                        ai = amp_im[k0 + j]
+                        e_r = er[j]
+                        e_i = ei[j]
+                        sr += ar * e_r - ai * e_i
+                        si += ar * e_i + ai * e_r
+                        er[j] = e_r * zr[j] - e_i * zi[j]
+                        ei[j] = e_r * zi[j] + e_i * zr[j]
+                    acc_r[m] += sr
+                    acc_i[m] += si
         for m in range(M):
             out_re[n, m] = acc_r[m]
             out_im[n, m] = acc_i[m]
