@@ -44,6 +44,13 @@ def test_bad_sweeps_exit_2_before_any_work(tmp_path, scen, args, needle):
     assert not (tmp_path / "o").exists()
 
 
+def test_spaceborne_stacking_sweeps_only_in_process(tmp_path):
+    from ..conftest import EXAMPLES
+    r = salkit("sweep", EXAMPLES / "spaceborne_geo.yaml", "--vary", "receiver.noise.signal_photons=1,2",
+               "--out", tmp_path / "o", "--workers", "1")
+    assert r.returncode == 2 and "--workers 0" in r.stderr and not (tmp_path / "o").exists()
+
+
 def test_interrupted_sweep_resumes(tmp_path, scen, monkeypatch):
     import salkit.studies.engine as engine
     args = ["sweep", scen, "--vary", "waveform.bandwidth=5e9,6e9,7.5e9", "--metric", "peak_amplitude",
