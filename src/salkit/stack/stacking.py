@@ -5,11 +5,12 @@ from __future__ import annotations
 import lazy_loader as _lazy
 import numpy as np
 
-from ..errors import EnvironmentProblem, SalkitError
+from ..errors import SalkitError
 from ..focus import run_memory_estimate
 from ..metrics.pointtarget import ipr_1d
 from ..params.models import Scenario
 from ..params.scenario import dump_scenario, parse_scenario
+from ..resources import dask_client
 from .subapertures import nearest_squints, point_target, squint_of, subimage
 
 _dask_distributed = _lazy.load("dask.distributed", suppress_warning=True)
@@ -137,23 +138,7 @@ def run_stack(base: Scenario, squints, store, scheduler: str | None = None,
     (stack, computed)
         The mean intensity over all stored sub-images and how many this call computed.
     """
-
-
-    cluster = None
-    try:  # connect first: an unreachable scheduler writes nothing
-        if scheduler:
-            client = _dask_distributed.Client(scheduler, timeout="5s")
-        else:
-            # one compute thread per worker process: numba's own pool would otherwise put
-            # workers x cores threads on the cores
-            cluster = _dask_distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                                     dashboard_address=None,
-                                                     env={"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"})
-            client = _dask_distributed.Client(cluster)
-    except (OSError, TimeoutError) as err:
-        raise EnvironmentProblem(f"--scheduler {scheduler}: no Dask scheduler answers there "
-                                 f"({type(err).__name__})") from None
-    try:
+    with dask_client(scheduler, workers) as client:  # connect first: an unreachable scheduler writes nothing
         squints = [float(q) for q in squints]
         count = len(squints)
         g = base.processing.grid
@@ -194,10 +179,6 @@ def run_stack(base: Scenario, squints, store, scheduler: str | None = None,
                 raise KeyboardInterrupt("stopped on request")
         stack_ = np.asarray(root["intensity"][:]).mean(axis=0)
         return stack_, computed
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
 
 
 def coherent_resolution(base: Scenario, counts, oversample: float = 4.0) -> dict:
