@@ -79,6 +79,33 @@ def unit_of(name: str) -> str:
     return ""
 
 
+#: Unit suffixes of metric names before which a metric's theory value carries ``_theory``.
+THEORY_SUFFIXES = ("_m", "_db", "_rad", "_s", "_hz", "_deg", "_w")
+
+
+def theory_name(name: str) -> str:
+    """The name of a metric's theory value: ``irw_range_m`` -> ``irw_range_theory_m``,
+    ``snr_single`` -> ``snr_single_theory``.
+
+    Parameters
+    ----------
+    name : str
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> theory_name("irw_range_m"), theory_name("pslr_azimuth_db"), theory_name("image_snr")
+    ('irw_range_theory_m', 'pslr_azimuth_theory_db', 'image_snr_theory')
+    """
+    for suf in THEORY_SUFFIXES:
+        if name.endswith(suf):
+            return name[: -len(suf)] + "_theory" + suf
+    return name + "_theory"
+
+
 def round_sig(x: float, digits: int = 4) -> str:
     """``x`` to ``digits`` significant digits, without exponent between 1e-3 and 1e6.
 

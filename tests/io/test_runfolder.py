@@ -90,3 +90,24 @@ def test_checkpoint_kept_for_resume(tmp_path):
         assert (d / "stack.zarr" / "chunk").read_text() == "done 2 of 6"
         assert not (d / "other").exists()
     assert _siblings(tmp_path) == ["out"]
+
+
+def test_adopt_stale_and_discard_resume(tmp_path):
+    """A run killed without cleaning up leaves .NAME.tmp-*: the next run adopts the named entries
+    it lacks and removes the stale folder; discard_resume forgets a kept checkpoint."""
+    out = tmp_path / "o"
+    stale = tmp_path / ".o.tmp-deadbeef0000"
+    (stale / "checkpoint").mkdir(parents=True)
+    (stale / "checkpoint" / "p0.json").write_text("old")
+    (stale / "checkpoint" / "p1.json").write_text("old")
+    folder = RunFolder(out)
+    with folder as tmp:
+        (tmp / "checkpoint").mkdir()
+        (tmp / "checkpoint" / "p1.json").write_text("new")
+        folder.adopt_stale("checkpoint")
+        assert sorted(p.name for p in (tmp / "checkpoint").iterdir()) == ["p0.json", "p1.json"]
+        assert (tmp / "checkpoint" / "p1.json").read_text() == "new"  # what this run has stays
+    assert not stale.exists()
+    (tmp_path / ".x.resume").mkdir()
+    RunFolder(tmp_path / "x").discard_resume()
+    assert not (tmp_path / ".x.resume").exists()

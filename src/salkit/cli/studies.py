@@ -2,8 +2,6 @@
 ``sweep.nc``, figures, ``metrics.json`` and ``report.html``."""
 from __future__ import annotations
 
-import os
-import shutil
 from pathlib import Path
 from typing import List, Optional
 
@@ -43,27 +41,13 @@ def sweep(scenario: Path = typer.Argument(..., metavar="SCENARIO.yaml", help="ba
                   soft_wrap=True)
     folder = RunFolder(out_dir, overwrite=overwrite, keep_on_failure=(CHECKPOINT, IMAGES))
     folder._check_target()
-    if not resume and folder.resume.is_dir():  # an old interrupted sweep: only --resume continues it
-        shutil.rmtree(folder.resume, ignore_errors=True)
+    if not resume:  # an old interrupted sweep: only --resume continues it
+        folder.discard_resume()
     with folder as tmp:
         if resume:
-            _adopt_stale(folder, tmp, CHECKPOINT)
+            folder.adopt_stale(CHECKPOINT)
         with _Bar() as bar:
             m = run_sweep(sc, plan, invalid, tmp, workers=workers, scheduler=scheduler, progress=bar,
                           command=_command_line(), keep_images=keep_images)
     out.print(f"{m['sweep_points_ok']} of {m['sweep_points']} points x {m['sweep_realisations']} realisations in "
               f"{m['sweep_seconds']:.1f} s; report: {Path(out_dir) / 'report.html'}", highlight=False)
-
-
-def _adopt_stale(folder, tmp: Path, name: str) -> None:
-    """Move the runs of a sweep killed without cleaning up (a stale ``.NAME.tmp-*`` folder: its
-    lock is free, since this process holds it now) into this run's checkpoint."""
-    dst = tmp / name
-    for stale in sorted(folder.parent.glob(f".{folder.name}.tmp-*")):
-        if stale == tmp or not (stale / name).is_dir():
-            continue
-        dst.mkdir(exist_ok=True)
-        for p in (stale / name).iterdir():
-            if not (dst / p.name).exists():
-                os.replace(p, dst / p.name)
-        shutil.rmtree(stale, ignore_errors=True)

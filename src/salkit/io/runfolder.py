@@ -222,6 +222,31 @@ class RunFolder:
             raise
         return self.tmp
 
+    def discard_resume(self) -> None:
+        """Forget what an interrupted run kept for resuming (``.NAME.resume``): the next run starts
+        afresh."""
+        shutil.rmtree(self.resume, ignore_errors=True)
+
+    def adopt_stale(self, name: str) -> None:
+        """Inside the block: move ``name`` of runs killed without cleaning up (stale ``.NAME.tmp-*``
+        folders; their lock is free, since this run holds it now) into this run's folder, entry by
+        entry, and remove the stale folders.
+
+        Parameters
+        ----------
+        name : str
+            A folder inside the run folder (a checkpoint).
+        """
+        dst = self.tmp / name
+        for stale in sorted(self.parent.glob(f".{self.name}.tmp-*")):
+            if stale == self.tmp or not (stale / name).is_dir():
+                continue
+            dst.mkdir(exist_ok=True)
+            for p in (stale / name).iterdir():
+                if not (dst / p.name).exists():
+                    os.replace(p, dst / p.name)
+            shutil.rmtree(stale, ignore_errors=True)
+
     def _cleanup(self, success: bool):
         if not success and self.tmp.exists():
             kept = [n for n in self.keep if (self.tmp / n).exists()]

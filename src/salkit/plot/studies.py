@@ -8,6 +8,7 @@ import matplotlib
 import matplotlib.ticker
 import numpy as np
 
+from ..units import theory_name
 from .canvas import _save, _subplots
 
 
@@ -116,10 +117,5 @@ def metric_theory(ds, metric: str):
     -------
     xarray.DataArray or None
     """
-    for suf in ("_m", "_db", "_rad", "_s", "_hz", "_deg", "_w"):
-        if metric.endswith(suf):
-            name = metric[: -len(suf)] + "_theory" + suf
-            break
-    else:
-        name = metric + "_theory"
+    name = theory_name(metric)
     return ds[name] if name in ds.data_vars else None

@@ -10,9 +10,9 @@ with any number of workers gives identical numbers.
 Modules: :mod:`~salkit.studies.spec` (``FIELD=SPEC`` axes), :mod:`~salkit.studies.plan` (points,
 seeds, checks before any work), :mod:`~salkit.studies.engine` (running, checkpoints, the dataset).
 """
-from .engine import Checkpoint, assemble, execute, plan_of, run_point, select_metrics, sweep, theory_name
+from .engine import Checkpoint, assemble, execute, plan_of, run_point, select_metrics, sweep
 from .plan import SweepPlan, check_points, make_plan, realisation_seed, with_realisation
 from .spec import Axis, parse_vary
 
 __all__ = ["Axis", "Checkpoint", "SweepPlan", "assemble", "check_points", "execute", "make_plan", "parse_vary",
-           "plan_of", "realisation_seed", "run_point", "select_metrics", "sweep", "theory_name", "with_realisation"]
+           "plan_of", "realisation_seed", "run_point", "select_metrics", "sweep", "with_realisation"]

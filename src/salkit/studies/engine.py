@@ -25,38 +25,11 @@ from ..io.datasets import write_dataset, write_json_atomic
 from ..params.scenario import dump_scenario, parse_scenario
 from ..systems import run_workflow
 from ..systems.result import RunResult
-from ..units import unit_of
-from .plan import SweepPlan, check_points, make_plan
+from ..units import theory_name, unit_of
+from .plan import SweepPlan, check_points, make_plan, require_valid
 from .spec import Axis, parse_vary
 
 _dask_distributed = _lazy.load("dask.distributed", suppress_warning=True)
-
-#: Suffixes of metric names that carry their unit; a metric's theory is named with ``_theory`` before it.
-UNIT_SUFFIXES = ("_m", "_db", "_rad", "_s", "_hz", "_deg", "_w")
-
-
-def theory_name(name: str) -> str:
-    """The name of a metric's theory value: ``irw_range_m`` -> ``irw_range_theory_m``,
-    ``snr_single`` -> ``snr_single_theory``.
-
-    Parameters
-    ----------
-    name : str
-
-    Returns
-    -------
-    str
-
-    Examples
-    --------
-    >>> theory_name("irw_range_m"), theory_name("pslr_azimuth_db"), theory_name("image_snr")
-    ('irw_range_theory_m', 'pslr_azimuth_theory_db', 'image_snr_theory')
-    """
-    for suf in UNIT_SUFFIXES:
-        if name.endswith(suf):
-            return name[: -len(suf)] + "_theory" + suf
-    return name + "_theory"
-
 
 def select_metrics(metrics: dict, wanted) -> dict:
     """The numeric metrics a sweep keeps: ``wanted`` (all when empty) and each one's theory value.
@@ -249,9 +222,7 @@ def execute(plan: SweepPlan, invalid: dict, *, client=None, checkpoint=None,
     ScenarioError
         When every point is invalid.
     """
-    if len(invalid) == plan.n_points:
-        first = next(iter(invalid.values()))
-        raise ScenarioError("--vary", f"all {plan.n_points} points", f"none can run; the first: {first}")
+    require_valid(plan, invalid)
     store = Checkpoint(checkpoint, plan) if checkpoint is not None else None
     records = store.done() if store is not None else {}
     todo = [(i, r) for i in range(plan.n_points) if i not in invalid for r in range(plan.realisations)

@@ -218,7 +218,24 @@ def prepare(request) -> tuple:
     plan = make_plan(sc, [parse_vary(v) for v in request.vary], zipped=request.zipped,
                      realisations=request.realisations, metrics=request.metrics)
     invalid = check_points(plan)
+    require_valid(plan, invalid)
+    return sc, plan, invalid
+
+
+def require_valid(plan: SweepPlan, invalid: dict) -> None:
+    """Refuse a sweep none of whose points can run, naming the first reason.
+
+    Parameters
+    ----------
+    plan : SweepPlan
+    invalid : dict
+        Point -> reason (:func:`check_points`).
+
+    Raises
+    ------
+    ScenarioError
+        When every point is invalid.
+    """
     if len(invalid) == plan.n_points:
         first = next(iter(invalid.values()))
         raise ScenarioError("--vary", f"all {plan.n_points} points", f"none can run; the first: {first}")
-    return sc, plan, invalid
