@@ -18,7 +18,7 @@ EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "sweeps" / "geo_snr
 def bench_sweep(points=24):
     from salkit.params import load_scenario
     from salkit.resources import dask_client
-    from salkit.studies import sweep
+    from salkit.systems.study import sweep
     from salkit.studies.spec import read_sweep_file
     sf = read_sweep_file(EXAMPLE)
     sc = load_scenario(sf.scenario, list(sf.sets))

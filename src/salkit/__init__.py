@@ -27,7 +27,7 @@ __getattr__, __dir__, _ = _lazy.attach(
                 "plot", "report", "resources", "signals", "simulate", "stack", "studies", "systems", "choices", "papers",
                 "tolerances"],
     submod_attrs={"params": ["Scenario", "load_scenario", "example_path"], "focus": ["range_compress"],
-                  "metrics": ["measure"], "geometry": ["truth_positions"], "studies": ["sweep"]},
+                  "metrics": ["measure"], "geometry": ["truth_positions"], "systems.study": ["sweep"]},
 )
 
 __all__ = [

@@ -52,7 +52,7 @@ def test_spaceborne_stacking_sweeps_only_in_process(tmp_path):
 
 
 def test_interrupted_sweep_resumes(tmp_path, scen, monkeypatch):
-    import salkit.studies.engine as engine
+    import salkit.report.sweeps as engine  # where the sweep command finds its runner
     args = ["sweep", scen, "--vary", "waveform.bandwidth=5e9,6e9,7.5e9", "--metric", "peak_amplitude",
             "--workers", "0"]
     whole = tmp_path / "whole"

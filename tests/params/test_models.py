@@ -24,3 +24,13 @@ def test_derived_quantities(spot):
 def test_waveform_nonlinearity_flag():
     w = Waveform(wavelength=1.55e-6, bandwidth=1e9, pulse_width=1e-5, prf=1e3, nonlinearity=(1e17,))
     assert not w.is_linear
+
+
+def test_zero_cn2_is_the_turbulence_free_path():
+    """atmosphere.cn2 = 0 drops the atmosphere (a Cn2 sweep may start at 0); negative values and a
+    profile with a zero layer are still refused, naming the field."""
+    sc = parse_scenario(merge(SPOT, atmosphere={"cn2": 0.0, "layers": 10}))
+    assert sc.atmosphere is None and sc == parse_scenario(SPOT)
+    for bad in (-1e-15, [0.0] * 10):
+        with pytest.raises(ScenarioError, match="cn2"):
+            parse_scenario(merge(SPOT, atmosphere={"cn2": bad, "layers": 10}))

@@ -8,6 +8,7 @@ from salkit.report.index import headline, write_index
 from salkit.report.sweeps import run_sweep
 from salkit.studies.plan import check_points, make_plan
 from salkit.studies.spec import parse_vary
+from salkit.systems.preflight import preflight
 
 from ..conftest import SPOT
 
@@ -19,7 +20,7 @@ def test_run_sweep_writes_its_folder(tmp_path):
     d = tmp_path / "run"
     d.mkdir()
     stages = []
-    m = run_sweep(sc, plan, check_points(plan), d, workers=0, progress=lambda s, k, n: stages.append((s, k, n)))
+    m = run_sweep(sc, plan, check_points(plan, preflight), d, workers=0, progress=lambda s, k, n: stages.append((s, k, n)))
     assert stages[-1] == ("runs", 4, 4)
     for f in ("sweep.nc", "sweep.csv", "metrics.json", "report.html", "scenario.yaml", "sweep_irw_range_m.png"):
         assert (d / f).is_file(), f

@@ -5,6 +5,7 @@ import pytest
 from salkit.errors import ScenarioError
 from salkit.params import parse_scenario
 from salkit.studies import SweepPlan, check_points, make_plan, parse_vary, realisation_seed, with_realisation
+from salkit.systems.preflight import preflight
 
 from ..conftest import SPOT, merge
 
@@ -51,5 +52,5 @@ def test_realisation_seeds_are_common_random_numbers(spot):
 
 def test_invalid_points_named(spot):
     p = make_plan(spot, [parse_vary("waveform.prf=25000,50")])  # 50 Hz: too few pulses for the grid
-    bad = check_points(p)
+    bad = check_points(p, preflight)
     assert list(bad) == [1] and bad[1].startswith("processing.grid.dx = 0.015: must be <=")

@@ -81,3 +81,16 @@ def test_wave_optics_side_by_side(wave_result):
     assert m["weak_rytov_spherical"] == pytest.approx(0.41, rel=0.01)
     assert m["weak_wo_pga_irw_azimuth_m"] == pytest.approx(m["none_irw_azimuth_m"], rel=0.10)
     assert abs(m["weak_wo_peak_ratio"] - m["weak_peak_ratio"]) > 0.02
+
+
+def test_classes_run_as_a_sweep_of_cn2(result):
+    """The class loop is a sweep of atmosphere.cn2 through the study engine: classes.nc holds each
+    class's metrics against Cn2 (0: the turbulence-free path), equal to the class metrics."""
+    from salkit.io import open_dataset
+    out, m = result
+    ds = open_dataset(out / "classes.nc")
+    assert ds.attrs["salkit_kind"] == "sweep" and (ds["status"].values == "ok").all()
+    assert list(ds["atmosphere.cn2"].values) == [0.0, 1e-15, 1e-14, 1e-13]
+    for name, cn2 in (("none", 0.0), ("medium", 1e-14)):
+        for k in ("peak_amplitude", "pga_irw_azimuth_m", "i_pga_entropy"):
+            assert ds[f"class_{k}"].sel({"atmosphere.cn2": cn2}).item() == m[f"{name}_{k}"], (name, k)

@@ -48,7 +48,7 @@ def main(argv=None) -> int:
     from ..report import run_scenario
     from ..report.index import write_index
     from ..report.sweeps import CHECKPOINT, run_sweep
-    from ..studies.plan import prepare
+    from ..systems.study import prepare
     from ..studies.spec import resolve_request
     from .app import _Bar, show_warning
     from .options import _examples_dir, print_headline

@@ -28,7 +28,7 @@ def sweep(scenario: Path = typer.Argument(..., metavar="SCENARIO.yaml", help="ba
     from ..errors import ScenarioError
     from ..io.runfolder import RunFolder
     from ..report.sweeps import CHECKPOINT, IMAGES, run_sweep
-    from ..studies.plan import prepare
+    from ..systems.study import prepare
     from ..studies.spec import resolve_request
     if realisations is not None and realisations < 1:
         raise ScenarioError("--realisations", realisations, "must be >= 1")

@@ -332,7 +332,8 @@ class Atmosphere(_Frozen):
 
     cn2: float | tuple[float, ...] = Field(description=(
         "refractive-index structure constant, m^(-2/3): constant, or one value per layer from the "
-        "scene to the platform (profile)"))
+        "scene to the platform (profile); in a scenario, a constant 0 is the turbulence-free path (the "
+        "atmosphere is dropped)"))
     layers: int = Field(default=50, ge=1, le=1000)
     screen_dx: float = Field(default=0.01, gt=0, description="screen sample spacing, m")
     screen_n: Optional[int] = Field(default=None, ge=16, le=8192, description="screen size; default: fits the rays")
@@ -466,6 +467,15 @@ class Scenario(_ScenarioBase):
     experiment: Optional[TurbulenceExperiment | ChirpExperiment | SpaceborneExperiment] = Field(
         default=None, discriminator="kind")
     stack: StackSettings = StackSettings()
+
+    @model_validator(mode="before")
+    @classmethod
+    def _vacuum(cls, data):
+        # atmosphere.cn2 = 0 is the turbulence-free path: no atmosphere (a sweep of Cn2 may start there)
+        atm = data.get("atmosphere") if isinstance(data, dict) else None
+        if isinstance(atm, dict) and isinstance(atm.get("cn2"), (int, float)) and atm["cn2"] == 0:
+            return {**data, "atmosphere": None}
+        return data
 
     @model_validator(mode="after")
     def _beam(self) -> "Scenario":

@@ -58,7 +58,7 @@ def sweep_figure(ds, metric: str, path) -> Path:
     Parameters
     ----------
     ds : xarray.Dataset
-        A sweep (:func:`salkit.studies.sweep`), not zipped.
+        A sweep (:func:`salkit.sweep`), not zipped.
     metric : str
         A variable of ``ds``.
     path : path

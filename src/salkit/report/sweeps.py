@@ -8,7 +8,8 @@ from pathlib import Path
 
 from ..errors import ScenarioError
 from ..resources import dask_client
-from ..studies.engine import as_result, execute
+from ..studies.engine import execute
+from ..systems.study import as_result, run_point
 from .run import write_run
 
 #: The folder of the checkpoint inside a sweep's run folder (removed once the sweep is written).
@@ -19,7 +20,7 @@ IMAGES = "images"
 
 def run_sweep(scenario, plan, invalid: dict, out_dir, *, workers: int | None = None, scheduler: str | None = None,
               progress=None, command: str | None = None, index: str | None = None, keep_images: bool = False) -> dict:
-    """Run a prepared sweep (:func:`salkit.studies.plan.prepare`) and write it into ``out_dir``.
+    """Run a prepared sweep (:func:`salkit.systems.study.prepare`) and write it into ``out_dir``.
 
     Parameters
     ----------
@@ -62,9 +63,9 @@ def run_sweep(scenario, plan, invalid: dict, out_dir, *, workers: int | None = N
         images.mkdir(exist_ok=True)
     tick = (lambda d, n: progress("runs", d, n)) if progress is not None else None
     if scheduler is None and workers == 0:
-        ds = execute(plan, invalid, checkpoint=out / CHECKPOINT, progress=tick, images=images)
+        ds = execute(plan, invalid, run_point, checkpoint=out / CHECKPOINT, progress=tick, images=images)
     else:
         with dask_client(scheduler, workers) as client:
-            ds = execute(plan, invalid, client=client, checkpoint=out / CHECKPOINT, progress=tick, images=images)
+            ds = execute(plan, invalid, run_point, client=client, checkpoint=out / CHECKPOINT, progress=tick, images=images)
     shutil.rmtree(out / CHECKPOINT)
     return write_run(as_result(ds, scenario.name, scenario.description), out, command=command, index=index)

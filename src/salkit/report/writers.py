@@ -189,7 +189,7 @@ def write_sweep(result: RunResult, out: Path, page: dict | None = None) -> None:
     Parameters
     ----------
     result : RunResult
-        From :func:`salkit.studies.engine.as_result`.
+        From :func:`salkit.systems.study.as_result`.
     out : Path
     page : dict, optional
         Command line and index link (:func:`salkit.report.render`).

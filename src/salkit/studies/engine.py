@@ -1,6 +1,7 @@
-"""Running a sweep: each (point, realisation) runs what ``salkit run`` runs for its scenario, up to
-its metrics; finished runs are stored one file each as they complete (the checkpoint), so an
-interrupted sweep resumes with only what is missing; the results become one labelled dataset.
+"""Running a sweep: each (point, realisation) goes to a runner (what ``salkit run`` runs for the
+scenario, :func:`salkit.systems.study.run_point`, or a system's own point function); finished runs
+are stored one file each as they complete (the checkpoint), so an interrupted sweep resumes with
+only what is missing; the results become one labelled dataset.
 
 Runs go through Dask when a client is given (a local cluster by default from the command line,
 or an existing scheduler's), in this process otherwise. The numbers do not depend on which: each
@@ -9,7 +10,6 @@ run's random fields come from its realisation's seeds alone.
 from __future__ import annotations
 
 import json
-import tempfile
 import time
 from pathlib import Path
 from typing import Callable, Optional
@@ -20,13 +20,11 @@ import xarray as xr
 import yaml
 
 from .. import __version__
-from ..errors import SalkitError, ScenarioError
+from ..errors import SalkitError
 from ..io.datasets import write_dataset, write_json_atomic
 from ..params.scenario import dump_scenario, parse_scenario
-from ..systems import run_workflow
-from ..systems.result import RunResult
 from ..units import theory_name, unit_of
-from .plan import SweepPlan, check_points, make_plan, require_valid
+from .plan import SweepPlan, make_plan, require_valid
 from .spec import Axis, parse_vary
 
 _dask_distributed = _lazy.load("dask.distributed", suppress_warning=True)
@@ -54,37 +52,6 @@ def select_metrics(metrics: dict, wanted) -> dict:
             if k in metrics and num(metrics[k]):
                 out[k] = float(metrics[k])
     return out
-
-
-def run_point(data: dict, metrics=(), keep_images: bool = False) -> dict:
-    """Run one (point, realisation): its workflow up to the metrics (no files kept).
-
-    Parameters
-    ----------
-    data : dict
-        The scenario as plain data.
-    metrics : sequence of str
-        Metrics to keep (empty: all numeric ones).
-    keep_images : bool
-        Also return the run's image datasets (``image*.nc``).
-
-    Returns
-    -------
-    dict
-        ``status`` ("ok" or the reason it could not run), ``metrics`` (name -> float),
-        ``seconds``, and with ``keep_images`` ``images`` (file name -> dataset).
-    """
-    t0 = time.perf_counter()
-    try:
-        sc = parse_scenario(data)
-        with tempfile.TemporaryDirectory(prefix="salkit-sweep-") as tmp:
-            result = run_workflow(sc, tmp)
-        rec = {"status": "ok", "metrics": select_metrics(result.metrics, metrics), "seconds": time.perf_counter() - t0}
-        if keep_images:
-            rec["images"] = {k: v for k, v in result.datasets.items() if k.startswith("image")}
-        return rec
-    except SalkitError as e:
-        return {"status": f"failed: {e}", "metrics": {}, "seconds": time.perf_counter() - t0}
 
 
 class Checkpoint:
@@ -134,53 +101,13 @@ class Checkpoint:
         write_json_atomic(self.path(i, r), {"point": i, "realisation": r, **rec})
 
 
-def sweep(scenario, vary, *, zip: bool = False, realisations: int = 1, metrics=(), client=None,
-          checkpoint=None, progress: Optional[Callable[[int, int], None]] = None) -> xr.Dataset:
-    """Run a parameter sweep with realisations: each point's metrics against the varied fields.
-
-    Parameters
-    ----------
-    scenario : Scenario or DownlookingScenario
-        The base scenario.
-    vary : dict or sequence
-        Field -> SPEC string (``"lin:1e9:7.5e9:7"``, ``"log:1e-15:1e-13:5"``, ``"bp,pfa"``) or a
-        sequence of values; or a sequence of :class:`~salkit.studies.spec.Axis`.
-    zip : bool
-        Pair the axes' values instead of spanning the full grid.
-    realisations : int
-        Realisations per point; realisation 0 is the scenario's own seeds, every point sees the
-        same realisations.
-    metrics : sequence of str
-        Metrics to keep (and their theory values); empty: every numeric metric.
-    client : dask.distributed.Client, optional
-        Where the runs go; default: this process, one after another.
-    checkpoint : path, optional
-        Folder of the checkpoint: finished runs are stored there and not run again.
-    progress : callable, optional
-        ``progress(done, total)`` in runs.
-
-    Returns
-    -------
-    xarray.Dataset
-        See :func:`assemble`.
-
-    Raises
-    ------
-    ScenarioError
-        A bad axis, a misspelt field, or every point invalid.
-    """
-    plan = plan_of(scenario, vary, zip, realisations, metrics)
-    bad = check_points(plan)
-    return execute(plan, bad, client=client, checkpoint=checkpoint, progress=progress)
-
-
 def plan_of(scenario, vary, zip=False, realisations=1, metrics=()) -> SweepPlan:
-    """A :class:`SweepPlan` from the arguments of :func:`sweep`.
+    """A :class:`SweepPlan` from the arguments of :func:`salkit.systems.study.sweep`.
 
     Parameters
     ----------
     scenario, vary, zip, realisations, metrics
-        As :func:`sweep`.
+        As :func:`salkit.systems.study.sweep`.
 
     Returns
     -------
@@ -194,9 +121,9 @@ def plan_of(scenario, vary, zip=False, realisations=1, metrics=()) -> SweepPlan:
     return make_plan(scenario, axes, zipped=zip, realisations=realisations, metrics=metrics)
 
 
-def execute(plan: SweepPlan, invalid: dict, *, client=None, checkpoint=None,
+def execute(plan: SweepPlan, invalid: dict, runner: Callable[..., dict], *, client=None, checkpoint=None,
             progress: Optional[Callable[[int, int], None]] = None, images=None,
-            runner: Optional[Callable[..., dict]] = None) -> xr.Dataset:
+            collect: Optional[dict] = None) -> xr.Dataset:
     """Run every (point, realisation) not in the checkpoint and not invalid; assemble the results.
 
     Parameters
@@ -204,14 +131,20 @@ def execute(plan: SweepPlan, invalid: dict, *, client=None, checkpoint=None,
     plan : SweepPlan
     invalid : dict
         Point -> reason (:func:`~salkit.studies.plan.check_points`).
+    runner : callable
+        What runs one (point, realisation): ``runner(data, metrics, keep_images) -> record``, with
+        ``data`` the point's scenario as plain data and the record ``{"status": "ok" or why not,
+        "metrics": {name: float}, "seconds": float}`` (optionally ``images`` and ``payload``);
+        importable on the workers. :func:`salkit.systems.study.run_point` runs a scenario's
+        workflow; a system's own loop passes its point function.
     client : dask.distributed.Client, optional
     checkpoint : path, optional
     progress : callable, optional
     images : path, optional
         Keep each run's images there, as ``p<point>_r<realisation>_<name>.nc``.
-    runner : callable, optional
-        What runs one (point, realisation): :func:`run_point` (default) or a function of the same
-        signature, importable on the workers.
+    collect : dict, optional
+        Receives each run's ``payload`` (what a runner returns beside its metrics: images, curves),
+        by (point, realisation); payloads are neither checkpointed nor assembled.
 
     Returns
     -------
@@ -234,6 +167,9 @@ def execute(plan: SweepPlan, invalid: dict, *, client=None, checkpoint=None,
         nonlocal done
         for name, ds in rec.pop("images", {}).items():
             write_dataset(ds, Path(images) / f"p{i:06d}_r{r:04d}_{name}")
+        payload = rec.pop("payload", None)
+        if collect is not None:
+            collect[(i, r)] = payload
         records[(i, r)] = rec
         if store is not None:
             store.store(i, r, rec)
@@ -245,9 +181,9 @@ def execute(plan: SweepPlan, invalid: dict, *, client=None, checkpoint=None,
         progress(done, total)
     if client is None:
         for i, r in todo:
-            keep(i, r, (runner or run_point)(plan.point_data(i, r), plan.metrics, images is not None))
+            keep(i, r, runner(plan.point_data(i, r), plan.metrics, images is not None))
     else:
-        futures = {client.submit(runner or run_point, plan.point_data(i, r), plan.metrics, images is not None, pure=False,
+        futures = {client.submit(runner, plan.point_data(i, r), plan.metrics, images is not None, pure=False,
                                  key=f"salkit-sweep-{plan.fingerprint()[:12]}-{i}-{r}"): (i, r) for i, r in todo}
         for fut in _dask_distributed.as_completed(futures):
             i, r = futures[fut]
@@ -269,7 +205,7 @@ def assemble(plan: SweepPlan, invalid: dict, records: dict) -> xr.Dataset:
     invalid : dict
         Point -> reason.
     records : dict
-        (point, realisation) -> :func:`run_point`'s record.
+        (point, realisation) -> a runner's record (:func:`execute`).
 
     Returns
     -------
@@ -392,20 +328,3 @@ def table(ds: xr.Dataset) -> str:
         row = vals + ['"' + str(st.values[idx]).replace('"', "'") + '"'] + [f"{float(med[n].isel(sel)):.6g}" for n in names]
         lines.append(",".join(row))
     return "\n".join(lines) + "\n"
-
-
-def as_result(ds: xr.Dataset, name: str, description: str = "") -> RunResult:
-    """A sweep as a :class:`~salkit.systems.result.RunResult` for the report layer: ``sweep.nc``,
-    ``sweep.csv`` and the summary metrics.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-    name, description : str
-
-    Returns
-    -------
-    RunResult
-    """
-    return RunResult("sweep", name, description, ds.attrs["scenario"], summary(ds), datasets={"sweep.nc": ds},
-                     tables={"sweep.csv": table(ds)}, figures={"metrics": measured_metrics(ds)})

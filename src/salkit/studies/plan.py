@@ -10,9 +10,7 @@ import numpy as np
 import yaml
 
 from ..errors import SalkitError, ScenarioError
-from ..params.scenario import apply_overrides, dump_scenario, load_scenario, parse_scenario
-from ..systems.preflight import preflight
-from .spec import parse_vary
+from ..params.scenario import apply_overrides, dump_scenario, parse_scenario
 
 
 #: Most (point, realisation) runs one sweep may hold.
@@ -175,12 +173,15 @@ def make_plan(scenario, axes, *, zipped: bool = False, realisations: int = 1, me
     return SweepPlan(base, tuple(axes), zipped, realisations, tuple(metrics))
 
 
-def check_points(plan: SweepPlan) -> dict[int, str]:
-    """Validate every point's scenario before any work (model constraints, aliasing, memory).
+def check_points(plan: SweepPlan, check=None) -> dict[int, str]:
+    """Validate every point's scenario before any work: its model constraints, and what ``check``
+    finds (:func:`salkit.systems.preflight.preflight`: aliasing, memory).
 
     Parameters
     ----------
     plan : SweepPlan
+    check : callable, optional
+        ``check(scenario)``, raising :class:`~salkit.errors.SalkitError` on a point that cannot run.
 
     Returns
     -------
@@ -190,36 +191,12 @@ def check_points(plan: SweepPlan) -> dict[int, str]:
     bad = {}
     for i in range(plan.n_points):
         try:
-            preflight(parse_scenario(plan.point_data(i)))
+            sc = parse_scenario(plan.point_data(i))
+            if check is not None:
+                check(sc)
         except SalkitError as e:
             bad[i] = str(e)
     return bad
-
-
-def prepare(request) -> tuple:
-    """Load a sweep request's scenario, plan it and check every point, before any work.
-
-    Parameters
-    ----------
-    request : SweepFile
-        :func:`salkit.studies.spec.resolve_request`.
-
-    Returns
-    -------
-    (Scenario, SweepPlan, dict)
-        The base scenario, the plan and the invalid points (index -> reason).
-
-    Raises
-    ------
-    ScenarioError
-        A bad scenario, axis or field, or no valid point.
-    """
-    sc = load_scenario(request.scenario, list(request.sets))
-    plan = make_plan(sc, [parse_vary(v) for v in request.vary], zipped=request.zipped,
-                     realisations=request.realisations, metrics=request.metrics)
-    invalid = check_points(plan)
-    require_valid(plan, invalid)
-    return sc, plan, invalid
 
 
 def require_valid(plan: SweepPlan, invalid: dict) -> None:

@@ -11,6 +11,7 @@ from __future__ import annotations
 import csv
 import io
 import math
+import time
 
 import numpy as np
 import xarray as xr
@@ -21,7 +22,10 @@ from ..focus.chirpcorr import (PhaseUnwrapError, correct_deskew, correct_paper, 
 from ..focus.dechirp import deskew
 from ..metrics.pointtarget import ipr_1d
 from ..params.models import Scenario
-from ..params.scenario import dump_scenario
+from ..params.scenario import dump_scenario, parse_scenario
+from ..studies.engine import execute
+from ..studies.plan import check_points, make_plan
+from ..studies.spec import Axis
 from ..tolerances import CHIRP_IRW_OF_IDEAL
 from .result import Progress, RunResult
 
@@ -165,47 +169,92 @@ def point_table(exp, t, fs, f0, k, coeffs) -> tuple[list, dict, xr.Dataset]:
     return table1, metrics, ds
 
 
-def sweep(rows_, cols_, make, t, fs, f0, k, delay) -> dict:
-    """Every method over a grid of (row, column) settings, on one point: compression ratio, IRW,
-    PSLR and ISLR grids (NaN where a method fails or the reference has zero length).
+#: Quantities of every method at one setting of a table: record name -> grid name.
+TABLE_QUANTITIES = {"compression_ratio": "ratio", "irw_m": "irw", "pslr_db": "pslr", "islr_db": "islr"}
+#: The seed's sweeps (Tables 2 and 3) as sweep axes: rows, then columns.
+TABLES = {"table2": ("experiment.d_rlo", "experiment.d_r"), "table3": ("experiment.r2", "experiment.r1")}
+
+
+def _fast_time(scenario: Scenario) -> np.ndarray:
+    rx, w = scenario.receiver, scenario.waveform
+    n = int(w.pulse_width * rx.adc_rate) - 2
+    return (np.arange(n) - n // 2) / rx.adc_rate
+
+
+def table_point(data: dict, metrics=(), keep_images: bool = False) -> dict:
+    """One cell of Tables 2 and 3, as a sweep point: the first point (A) through the scenario's
+    reference path and nonlinearity, every method; compression ratio, IRW, PSLR and ISLR.
 
     Parameters
     ----------
-    rows_, cols_ : sequence of float
-    make : callable
-        ``make(row, col) -> (coefficients, d_r, d_rlo)``.
-    t : ndarray
-        Fast time, s.
-    fs, f0, k : float
-        ADC rate (Hz), carrier (Hz), chirp rate (Hz/s).
-    delay : float
-        The point's delay, s.
+    data : dict
+        The scenario (``experiment.kind = nonlinear_chirp``) as plain data, with the cell's
+        ``d_r``, ``d_rlo``, ``r1`` and ``r2``.
+    metrics : sequence of str
+        Unused (every quantity is kept).
+    keep_images : bool
+        Unused.
 
     Returns
     -------
     dict
-        ``ratio``, ``irw``, ``pslr``, ``islr``: method -> (rows, cols) array.
+        A sweep record (:func:`salkit.studies.engine.execute`): metrics ``<method>_<quantity>``;
+        a method that fails has none.
     """
-    out = {q: {m: np.full((len(rows_), len(cols_)), np.nan) for m in METHODS} for q in ("ratio", "irw", "pslr", "islr")}
-    for i, a in enumerate(rows_):
-        for j, b in enumerate(cols_):
-            co, d_r, d_rlo = make(a, b)
-            if d_r == d_rlo:
-                continue  # zero-length reference
-            sig = run_methods(t, fs, f0, k, co, delay, d_r, d_rlo)
-            base, _ = analyse(sig["none"], fs, k)
-            for meth in METHODS:
-                if sig[meth] is not None:
-                    fig, _ = analyse(sig[meth], fs, k)
-                    out["ratio"][meth][i, j] = base["width_hz"] / fig["width_hz"]
-                    out["irw"][meth][i, j] = fig["irw_m"]
-                    out["pslr"][meth][i, j] = fig["pslr_db"]
-                    out["islr"][meth][i, j] = fig["islr_db"]
-    return out
+    t0 = time.perf_counter()
+    sc = parse_scenario(data)
+    exp, w, rx = sc.experiment, sc.waveform, sc.receiver
+    fs, k, f0 = rx.adc_rate, w.rate, w.carrier_frequency
+    t = _fast_time(sc)
+    delay = 2 * list(exp.points.values())[0] / C
+    sig = run_methods(t, fs, f0, k, coefficients(k, w.pulse_width, exp.r1, exp.r2), delay, exp.d_r, exp.d_rlo)
+    base, _ = analyse(sig["none"], fs, k)
+    out = {}
+    for meth in METHODS:
+        if sig[meth] is not None:
+            fig, _ = analyse(sig[meth], fs, k)
+            q = {"compression_ratio": base["width_hz"] / fig["width_hz"], "irw_m": fig["irw_m"],
+                 "pslr_db": fig["pslr_db"], "islr_db": fig["islr_db"]}
+            out.update({f"{meth}_{name}": float(v) for name, v in q.items()})
+    return {"status": "ok", "metrics": out, "seconds": time.perf_counter() - t0}
+
+
+def table(scenario: Scenario, label: str, progress=None) -> tuple[xr.Dataset, dict]:
+    """Table 2 (``d_rlo`` x ``d_r``) or 3 (``R2`` x ``R1``) of the seed as a sweep through the
+    study engine (:func:`table_point` at every cell; a zero-length reference is an invalid cell).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        With ``experiment.kind = nonlinear_chirp``; the other settings are the scenario's.
+    label : {"table2", "table3"}
+    progress : callable, optional
+        ``progress(done, total)``, in cells.
+
+    Returns
+    -------
+    (xarray.Dataset, dict)
+        The sweep (``<method>_<quantity>`` against the two fields) and the grids: quantity
+        (``ratio``, ``irw``, ``pslr``, ``islr``) -> method -> (rows, cols) array, NaN where a method
+        fails or the cell is invalid.
+    """
+    exp = scenario.experiment
+    rows_f, cols_f = TABLES[label]
+    values = {"experiment.d_rlo": exp.sweep_d_rlo, "experiment.d_r": exp.sweep_d_r,
+              "experiment.r2": exp.sweep_r2, "experiment.r1": exp.sweep_r1}
+    axes = [Axis(f, tuple(float(v) for v in values[f]), "list", ",".join(f"{v:g}" for v in values[f]))
+            for f in (rows_f, cols_f)]
+    plan = make_plan(scenario, axes)
+    ds = execute(plan, check_points(plan), table_point, progress=progress)
+    grids = {q: {m: (ds[f"{m}_{name}"].isel(realisation=0).values if f"{m}_{name}" in ds
+                     else np.full(plan.shape, np.nan)) for m in METHODS}
+             for name, q in TABLE_QUANTITIES.items()}
+    return ds, grids
 
 
 def run(scenario: Scenario, out_dir=None, progress: Progress = None) -> RunResult:
-    """Run the seed 002 experiment: Table 1 (points A, B, C), Tables 2 and 3 (sweeps), every method.
+    """Run the seed 002 experiment: Table 1 (points A, B, C), Tables 2 and 3 (sweeps through the
+    study engine, also written as ``table2.nc`` and ``table3.nc``), every method.
 
     Parameters
     ----------
@@ -222,20 +271,19 @@ def run(scenario: Scenario, out_dir=None, progress: Progress = None) -> RunResul
     """
     exp, w, rx = scenario.experiment, scenario.waveform, scenario.receiver
     fs, k, f0, tp = rx.adc_rate, w.rate, w.carrier_frequency, w.pulse_width
-    n = int(tp * fs) - 2
-    t = (np.arange(n) - n // 2) / fs
+    t = _fast_time(scenario)
     coeffs = coefficients(k, tp, exp.r1, exp.r2)
     table1, m1, profiles = point_table(exp, t, fs, f0, k, coeffs)
     metrics = {"c2_hz_per_s2": coeffs[0], "c3_hz_per_s3": coeffs[1], **m1}
     tables = {"table1.csv": csv_text(table1)}
-    a_delay = 2 * list(exp.points.values())[0] / C
+    data = {"profiles.nc": profiles}
     sweeps = {}
-    for i, (label, rows_, cols_, make) in enumerate((
-            ("table2", exp.sweep_d_rlo, exp.sweep_d_r, lambda a, b: (coeffs, b, a)),
-            ("table3", exp.sweep_r2, exp.sweep_r1, lambda a, b: (coefficients(k, tp, b, a), exp.d_r, exp.d_rlo)))):
+    for i, label in enumerate(TABLES):
         if progress:
             progress("tables swept", i, 2)
-        g = sweep(rows_, cols_, make, t, fs, f0, k, a_delay)
+        ds, g = table(scenario, label)
+        data[f"{label}.nc"] = ds
+        rows_, cols_ = (ds[f].values.tolist() for f in TABLES[label])
         sweeps[label] = (rows_, cols_, g["ratio"], g["irw"])
         for meth in METHODS:
             for suffix, q in (("", "ratio"), ("_irw_m", "irw"), ("_pslr_db", "pslr"), ("_islr_db", "islr")):
@@ -247,7 +295,7 @@ def run(scenario: Scenario, out_dir=None, progress: Progress = None) -> RunResul
         metrics[f"table3_{meth}_cells_within_5pct_of_ideal"] = int(np.nansum(np.abs(irws[meth] / irws["ideal"] - 1) <= CHIRP_IRW_OF_IDEAL))
     metrics["table3_cells"] = int(np.isfinite(irws["ideal"]).sum())
     return RunResult("nonlinear_chirp", scenario.name, scenario.description, dump_scenario(scenario), metrics,
-                     {"profiles.nc": profiles}, tables, figures={"table1": table1, "sweeps": sweeps})
+                     data, tables, figures={"table1": table1, "sweeps": sweeps})
 
 
 def csv_text(rows: list[dict]) -> str:

@@ -13,7 +13,7 @@ import time
 import numpy as np
 import xarray as xr
 
-from ..focus.downlooking import DLImages, focus_downlooking, image_attrs, image_dataset
+from ..focus.downlooking import DLImages, focus_downlooking, image_dataset
 from ..errors import ScenarioError
 from ..geometry.downlooking import DLDesign, design
 from ..metrics import measure

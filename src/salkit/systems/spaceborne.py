@@ -25,13 +25,18 @@ from ..io.datasets import make_image_dataset
 from ..metrics import measure, split_snr, stack_snr
 from ..metrics.pointtarget import ipr_1d
 from ..params.models import Scenario
-from ..params.scenario import dump_scenario
+from ..errors import SalkitError
+from ..params.scenario import dump_scenario, parse_scenario
 from ..resources import check_memory
 from ..simulate import signal_scale, simulate
 from ..simulate.scene import pattern_mask
 from ..stack import (coherent_resolution, coherent_stack, geo_base, nearest_squints, point_target, run_stack,
-                     stack_memory_estimate, subaperture, subimage, uncorrect)
+                     stack_memory_estimate, subimage, uncorrect)
+from ..studies.engine import execute
+from ..studies.plan import check_points, make_plan
+from ..studies.spec import Axis
 from .result import Progress, RunResult, stage
+from .study import run_point
 
 
 def collection_metrics(scenario: Scenario) -> tuple[dict, list]:
@@ -97,8 +102,40 @@ def stack_curve(inten: np.ndarray, mask: np.ndarray, noise_power: float, snr_sin
     return {f"snr_stack_{c}": v for c, v in zip(counts, curve)}, counts, curve
 
 
+def squint_sweep(scenario: Scenario, squints, runner, metrics=()):
+    """A sub-aperture scenario swept over its squint through the study engine, in this process:
+    each squint is :func:`salkit.stack.subaperture` of ``scenario`` (noise seed 0).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        One sub-aperture (experiment block removed).
+    squints : sequence of float
+        deg.
+    runner : callable
+        The point function (:func:`salkit.systems.study.run_point` or :func:`trajectory_point`).
+    metrics : sequence of str
+        Metrics to keep (empty: all).
+
+    Returns
+    -------
+    (xarray.Dataset, dict)
+        The sweep (``platform.squint_deg``, ``realisation``), and each squint's payload by index.
+    """
+    base = scenario.model_copy(update={"seed": 0})
+    axis = Axis("platform.squint_deg", tuple(float(q) for q in squints), "list", ",".join(f"{q:g}" for q in squints))
+    plan = make_plan(base, [axis], metrics=metrics)
+    payloads = {}
+    ds = execute(plan, check_points(plan), runner, collect=payloads)
+    bad = {str(v) for v in ds["status"].values if v != "ok"}
+    if bad:
+        raise SalkitError(f"squint sweep: {sorted(bad)[0]}")
+    return ds, {i: payloads[(i, 0)] for i in range(plan.n_points)}
+
+
 def resolution_against_squint(base: Scenario, sub_length: float) -> tuple[dict, list, list]:
-    """Along-track resolution measured on a point target at several squints, against eq 12.
+    """Along-track resolution measured on a point target at several squints, against eq 12: a
+    sweep of the sub-aperture's squint through the study engine (:func:`squint_sweep`).
 
     Parameters
     ----------
@@ -112,13 +149,11 @@ def resolution_against_squint(base: Scenario, sub_length: float) -> tuple[dict, 
         Metrics, squints (deg), measured resolutions (m).
     """
     L0 = base.platform.standoff
-    pt = point_target(base)
     sq_meas = [0.0, 2.5, 5.0, 7.5, 10.0, round(max_squint_for(1.1), 2)]
-    meas, m = [], {}
-    for q in sq_meas:
-        ptq = subaperture(pt, q, 0)
-        meas.append(measure(focus(simulate(ptq), ptq.processing, scenario=ptq))["irw_azimuth_m"] / 0.886)
-        m[f"resolution_azimuth_squint_{q:g}_m"] = meas[-1]
+    ds, _ = squint_sweep(point_target(base), sq_meas, run_point, metrics=("irw_azimuth_m",))
+    meas, m = [float(v) for v in ds["irw_azimuth_m"].isel(realisation=0).values / 0.886], {}
+    for q, v in zip(sq_meas, meas):
+        m[f"resolution_azimuth_squint_{q:g}_m"] = v
         m[f"resolution_azimuth_squint_{q:g}_theory_m"] = float(resolution_vs_squint(
             base.waveform.wavelength, L0, sub_length, q))
     m["max_squint_within_1p1_deg"] = max_squint_for(1.1)
@@ -172,9 +207,54 @@ def _focus_with(raw, sc: Scenario, positions: np.ndarray):
     return focus(r, sc.processing, scenario=sc)
 
 
+#: What :func:`trajectory_point` measures of each processing.
+TRAJECTORY_QUANTITIES = ("irw_azimuth_m", "irw_azimuth_theory_m", "pslr_azimuth_db", "peak_ratio",
+                         "peak_offset_azimuth_m", "peak_phase_rad")
+
+
+def trajectory_point(data: dict, metrics=(), keep_images: bool = False) -> dict:
+    """One squint of the trajectory study, as a sweep point: a noise-free point target simulated
+    on the true relative orbit, focused with the true positions, the tangent line and the seed's
+    straight line at V (:func:`trajectory_study`).
+
+    Parameters
+    ----------
+    data : dict
+        The sub-aperture (keplerian trajectory, one point target) as plain data.
+    metrics, keep_images
+        Unused.
+
+    Returns
+    -------
+    dict
+        A sweep record: metrics ``<processing>_<quantity>`` (:data:`TRAJECTORY_QUANTITIES`, the
+        peak ratio against the true processing's), and as ``payload`` each processing's image
+        intensity, for the stack.
+    """
+    t0 = time.perf_counter()
+    sk = parse_scenario(data)
+    sl = sk.model_copy(update={"platform": sk.platform.model_copy(update={"trajectory": "straight", "orbit": None})})
+    raw = simulate(sk)
+    true_pos = raw["position"].values
+    mid = len(true_pos) // 2
+    vel = np.gradient(true_pos, raw["slow_time"].values, axis=0)[mid]
+    tangent = true_pos[mid] + np.outer(raw["slow_time"].values - raw["slow_time"].values[mid], vel)
+    images = {"true": focus(raw, sk.processing, scenario=sk), "tangent": _focus_with(raw, sk, tangent),
+              "line": _focus_with(raw, sl, build_collection(sl).positions)}
+    out, payload, ref = {}, {}, None
+    for k, img in images.items():
+        a = img["image"].values
+        payload[k] = np.abs(a) ** 2
+        mm = measure(img)
+        ref = mm["peak_amplitude"] if ref is None else ref
+        vals = {**{q: mm[q] for q in TRAJECTORY_QUANTITIES if q != "peak_ratio"}, "peak_ratio": mm["peak_amplitude"] / ref}
+        out.update({f"{k}_{q}": float(vals[q]) for q in TRAJECTORY_QUANTITIES})
+    return {"status": "ok", "metrics": out, "seconds": time.perf_counter() - t0, "payload": payload}
+
+
 def trajectory_study(base: Scenario, squints, grid=None) -> tuple[dict, dict]:
-    """A noise-free point target simulated on the true relative orbit at each squint, focused three
-    ways: with the true positions (BP), with the straight line tangent to the true path at the
+    """A noise-free point target simulated on the true relative orbit at each squint (a squint sweep
+    through the study engine, :func:`trajectory_point` at each), focused three ways: with the true positions (BP), with the straight line tangent to the true path at the
     sub-aperture's centre, and with the seed's straight line at V; and the incoherent stack of
     each over the squints.
 
@@ -194,33 +274,16 @@ def trajectory_study(base: Scenario, squints, grid=None) -> tuple[dict, dict]:
         and figure data (per processing: IRW, PSLR and peak ratio against squint).
     """
     g = grid or base.processing.grid.model_copy(update={"nx": 160, "ny": 48, "dx": 0.008, "dy": 0.03})
-    pt = point_target(base, g)
-    line = pt.model_copy(update={"platform": pt.platform.model_copy(update={"trajectory": "straight", "orbit": None})})
+    ds, payloads = squint_sweep(point_target(base, g), squints, trajectory_point)
     m, fig, stacks = {}, {k: {"irw": [], "pslr": [], "peak": []} for k in TRAJECTORY_PROCESSINGS}, {}
-    for q in squints:
-        sk, sl = subaperture(pt, q, 0), subaperture(line, q, 0)
-        raw = simulate(sk)
-        true_pos = raw["position"].values
-        mid = len(true_pos) // 2
-        vel = np.gradient(true_pos, raw["slow_time"].values, axis=0)[mid]
-        tangent = true_pos[mid] + np.outer(raw["slow_time"].values - raw["slow_time"].values[mid], vel)
-        images = {"true": focus(raw, sk.processing, scenario=sk), "tangent": _focus_with(raw, sk, tangent),
-                  "line": _focus_with(raw, sl, build_collection(sl).positions)}
-        ref = None
-        for k, img in images.items():
-            a = img["image"].values
-            stacks[k] = np.abs(a) ** 2 + stacks.get(k, 0.0)
-            mm = measure(img)
-            ref = mm["peak_amplitude"] if ref is None else ref
-            vals = {"irw_azimuth_m": mm["irw_azimuth_m"], "irw_azimuth_theory_m": mm["irw_azimuth_theory_m"],
-                    "pslr_azimuth_db": mm["pslr_azimuth_db"],
-                    "peak_ratio": mm["peak_amplitude"] / ref, "peak_offset_azimuth_m": mm["peak_offset_azimuth_m"],
-                    "peak_phase_rad": mm["peak_phase_rad"]}
-            for name, v in vals.items():
-                m[f"trajectory_{k}_{name}_squint_{q:g}"] = float(v)
-            fig[k]["irw"].append(vals["irw_azimuth_m"])
-            fig[k]["pslr"].append(vals["pslr_azimuth_db"])
-            fig[k]["peak"].append(vals["peak_ratio"])
+    for i, q in enumerate(squints):
+        for k in TRAJECTORY_PROCESSINGS:
+            for name in TRAJECTORY_QUANTITIES:
+                m[f"trajectory_{k}_{name}_squint_{q:g}"] = float(ds[f"{k}_{name}"].values[i, 0])
+            fig[k]["irw"].append(float(ds[f"{k}_irw_azimuth_m"].values[i, 0]))
+            fig[k]["pslr"].append(float(ds[f"{k}_pslr_azimuth_db"].values[i, 0]))
+            fig[k]["peak"].append(float(ds[f"{k}_peak_ratio"].values[i, 0]))
+            stacks[k] = payloads[i][k] + stacks.get(k, 0.0)
     ref = stacks["true"].max()
     for k, s in stacks.items():
         i = np.unravel_index(np.argmax(s), s.shape)

@@ -8,6 +8,7 @@ layer writes them.
 """
 from __future__ import annotations
 
+import functools
 import time
 import warnings
 
@@ -21,9 +22,13 @@ from ..geometry.collection import build_collection
 from ..geometry.sampling import check_sampling
 from ..metrics import measure
 from ..params.models import Atmosphere, PointTarget, Scenario, Scene
-from ..params.scenario import dump_scenario
+from ..errors import SalkitError
+from ..params.scenario import dump_scenario, parse_scenario
 from ..simulate import screen_size, simulate, turbulent_path
 from ..simulate.scene import pattern_mask
+from ..studies.engine import execute
+from ..studies.plan import check_points, make_plan
+from ..studies.spec import Axis
 from .result import Progress, RunResult
 
 KEYS = ("irw_azimuth_m", "irw_range_m", "pslr_azimuth_db", "islr_azimuth_db", "peak_amplitude",
@@ -261,6 +266,98 @@ def pga_steps(scenario: Scenario, image, worst: str) -> tuple[dict, dict]:
     return m, steps
 
 
+#: The prefix :func:`class_point` gives its metrics; :func:`named` replaces it by the class's name.
+CLASS = "class"
+
+
+def class_point(data: dict, metrics=(), keep_images: bool = False, *, i_pts=(), wave: bool = False) -> dict:
+    """One turbulence class as a sweep point (:func:`class_sweep`): the point target and the "I"
+    through the scenario's Cn2 (none when the atmosphere is absent), PFA, PGA; with ``wave`` the
+    point target through the same screens by wave optics too.
+
+    Parameters
+    ----------
+    data : dict
+        The seed 004 scenario as plain data, its ``atmosphere.cn2`` the class's.
+    metrics, keep_images
+        Unused (every metric is kept).
+    i_pts : sequence of PointTarget
+        The "I" target.
+    wave : bool
+        Compare with wave optics (the experiment's atmosphere model is ``wave_optics``).
+
+    Returns
+    -------
+    dict
+        A sweep record: metrics ``class_*`` (:func:`class_images`, :func:`compare_models`), and as
+        ``payload`` the images, the cuts, the report row and the wave-optics images.
+    """
+    t0 = time.perf_counter()
+    sc = parse_scenario(data)
+    cn2 = float(sc.atmosphere.cn2) if sc.atmosphere is not None else 0.0
+    shared = {"model": "phase_screen", "screen_n": wave_optics_screen_n(sc, cn2, build_collection(sc))} \
+        if wave and cn2 > 0 else {}
+    with warnings.catch_warnings():  # the replica warning was given once by the experiment
+        warnings.filterwarnings("ignore", message="processing.grid spans")
+        m, imgs, row = class_images(sc, CLASS, cn2, list(i_pts), **shared)
+        wo = {}
+        if wave:
+            mw, wo = compare_models(sc, CLASS, cn2, row, shared.get("screen_n"))
+            m.update(mw)
+    return {"status": "ok", "metrics": {k: float(v) for k, v in m.items()}, "seconds": time.perf_counter() - t0,
+            "payload": {"metrics": m, "images": imgs, "row": row, "wave_optics": wo}}
+
+
+def class_sweep(scenario: Scenario, i_pts, wave: bool, progress: Progress = None):
+    """The experiment's turbulence classes as a sweep of ``atmosphere.cn2`` through the study
+    engine (:func:`class_point` at each distinct value, in this process).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        With ``experiment.kind = turbulence_pga``.
+    i_pts : sequence of PointTarget
+    wave : bool
+    progress : callable, optional
+        ``progress(stage, done, total)``, in classes.
+
+    Returns
+    -------
+    (xarray.Dataset, list)
+        The sweep (``class_*`` metrics against ``atmosphere.cn2``) and each value's payload.
+    """
+    values = tuple(dict.fromkeys(float(c) for c in scenario.experiment.classes.values()))
+    base = scenario if scenario.atmosphere is not None else scenario.model_copy(update={"atmosphere": Atmosphere(cn2=1e-15)})
+    axis = Axis("atmosphere.cn2", values, "list", ",".join(f"{v:g}" for v in values))
+    plan = make_plan(base, [axis])
+    payloads = {}
+    tick = (lambda d, n: progress("classes of turbulence", d, n)) if progress else None
+    ds = execute(plan, check_points(plan), functools.partial(class_point, i_pts=tuple(i_pts), wave=wave),
+                 progress=tick, collect=payloads)
+    bad = {str(v) for v in ds["status"].values if v != "ok"}
+    if bad:
+        raise SalkitError(f"turbulence classes: {sorted(bad)[0]}")
+    return ds, [payloads[(i, 0)] for i in range(plan.n_points)]
+
+
+def named(payload: dict, name: str) -> tuple[dict, dict, dict, dict]:
+    """A class point's payload under the class's name: metrics ``<name>_*``, images, report row and
+    wave-optics images.
+
+    Parameters
+    ----------
+    payload : dict
+        From :func:`class_point`.
+    name : str
+
+    Returns
+    -------
+    (dict, dict, dict, dict)
+    """
+    m = {f"{name}{k[len(CLASS):]}": v for k, v in payload["metrics"].items()}
+    return m, payload["images"], {**payload["row"], "name": name}, payload["wave_optics"]
+
+
 def run(scenario: Scenario, out_dir=None, progress: Progress = None) -> RunResult:
     """Run the seed 004 experiment (figures 1-8 of the seed).
 
@@ -289,28 +386,20 @@ def run(scenario: Scenario, out_dir=None, progress: Progress = None) -> RunResul
     i_pts = i_target_points(exp.i_target_extent, exp.i_target_spacing, scenario.seed)
     data, cuts, i_images, rows, wo_cuts = {}, {}, {}, [], {}
     wave = scenario.atmosphere is not None and scenario.atmosphere.model == "wave_optics"
-    with warnings.catch_warnings():  # the replica warning was given once above
-        warnings.filterwarnings("ignore", message="processing.grid spans")
-        for ci, (name, cn2) in enumerate(exp.classes.items()):
-            if progress:
-                progress("classes of turbulence", ci, len(exp.classes))
-            # side by side: both models through the same screens (sized for the wave-optics grids)
-            shared = {"model": "phase_screen", "screen_n": wave_optics_screen_n(scenario, cn2, col)} \
-                if wave and cn2 > 0 else {}
-            m, imgs, row = class_images(scenario, name, cn2, i_pts, **shared)
-            metrics.update(m)
-            rows.append(row)
-            data[f"image_{name}.nc"], data[f"image_{name}_pga.nc"] = imgs["point"], imgs["point_pga"]
-            cuts[name], i_images[name] = imgs["cuts"], imgs["i"]
-            if wave:
-                m, wo = compare_models(scenario, name, cn2, row, shared.get("screen_n"))
-                metrics.update(m)
-                wo_cuts[name] = wo.get("cuts", imgs["cuts"])
-                if wo:
-                    data[f"image_{name}_wave_optics.nc"] = wo["images"]["point"]
-                    data[f"image_{name}_wave_optics_pga.nc"] = wo["images"]["point_pga"]
-        if progress:
-            progress("classes of turbulence", len(exp.classes), len(exp.classes))
+    ds, points = class_sweep(scenario, i_pts, wave, progress)
+    data["classes.nc"] = ds
+    values = list(ds["atmosphere.cn2"].values)
+    for name, cn2 in exp.classes.items():
+        m, imgs, row, wo = named(points[values.index(cn2)], name)
+        metrics.update(m)
+        rows.append(row)
+        data[f"image_{name}.nc"], data[f"image_{name}_pga.nc"] = imgs["point"], imgs["point_pga"]
+        cuts[name], i_images[name] = imgs["cuts"], imgs["i"]
+        if wave:
+            wo_cuts[name] = wo.get("cuts", imgs["cuts"])
+            if wo:
+                data[f"image_{name}_wave_optics.nc"] = wo["images"]["point"]
+                data[f"image_{name}_wave_optics_pga.nc"] = wo["images"]["point_pga"]
     ref = min(rows, key=lambda r: r["cn2"])["peak_amplitude"]  # the weakest class, turbulence-free if present
     for r in rows:  # peak over the reference peak: the damage where a broken peak makes IRW meaningless
         for pre in ("", "wo_") if wave else ("",):

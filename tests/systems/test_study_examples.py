@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from salkit.params import load_scenario
-from salkit.studies import sweep
+from salkit.systems.study import sweep
 from salkit.studies.spec import read_sweep_file
 from salkit.systems.turbulence import point_images
 
