@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import os
 import re
+import sys
 from contextlib import contextmanager
 
 import lazy_loader as _lazy
@@ -156,12 +157,25 @@ def check_memory(need: float, what: str, hint: str) -> None:
 __all__ = ["available_memory", "check_memory", "gib", "parse_size", "set_limit"]
 
 
+def _in_dask_task() -> bool:
+    """Whether this code runs inside a Dask worker's task."""
+    if "distributed" not in sys.modules:
+        return False
+    try:
+        _dask_distributed.get_worker()
+        return True
+    except ValueError:
+        return False
+
+
 @contextmanager
 def dask_client(scheduler: str | None = None, workers: int | None = None):
     """A Dask client for the duration of a block: connected to ``scheduler`` if given, else to a
     local cluster of ``workers`` processes (default: one per core) started for the block, each
     with one compute thread (numba's own pool would otherwise put workers x cores threads on the
-    cores).
+    cores). Called inside a Dask task (a sweep's point running a stack), the client of the cluster
+    that task runs on (``worker_client``: the task leaves its worker's pool while its own tasks
+    run there), not a cluster of its own.
 
     Parameters
     ----------
@@ -179,6 +193,10 @@ def dask_client(scheduler: str | None = None, workers: int | None = None):
     EnvironmentProblem
         When no scheduler answers at ``scheduler`` (nothing has been written).
     """
+    if scheduler is None and _in_dask_task():  # nested (a sweep's point): the cluster it runs on
+        with _dask_distributed.worker_client() as client:
+            yield client
+        return
     cluster = None
     try:  # connect first: an unreachable scheduler writes nothing
         if scheduler:

@@ -64,3 +64,25 @@ def test_path_frame_is_orthonormal_and_right_handed():
     np.testing.assert_allclose(m @ m.T, np.eye(3), atol=1e-15)
     assert np.linalg.det(m) == pytest.approx(1.0)
     np.testing.assert_allclose(u0, [0.0, -0.6, 0.8])
+
+
+def test_aperture_strehl_limits():
+    """The synthetic aperture's long-exposure Strehl: 1 for a single pulse, falls with Cn2, a
+    tapered window (weight in the centre: shorter effective aperture) raises it, and for one
+    layer with a uniform window equals the closed form 2/L^2 int (L-u) exp(-D2(u)/2) du."""
+    from salkit.atmosphere.path import aperture_strehl, path_layers
+    R, lam, n = 10e3, 2e-6, 2001
+    pos = np.zeros((n, 3))
+    pos[:, 0] = np.linspace(-0.25, 0.25, n)
+    u0 = np.array([0.0, 0.0, 1.0])
+    z1, r1 = path_layers(1e-15, R, lam, 50)
+    z2, r2 = path_layers(1e-14, R, lam, 50)
+    s1 = aperture_strehl(z1, r1, R, pos, np.ones(n), u0)
+    s2 = aperture_strehl(z2, r2, R, pos, np.ones(n), u0)
+    assert 0 < s2 < s1 < 1
+    assert aperture_strehl(z1, r1, R, pos[:1], np.ones(1), u0) == 1.0
+    assert aperture_strehl(z1, r1, R, pos, np.hamming(n), u0) > s1
+    z, r0 = np.array([R]), np.array([0.05])  # one layer at the antenna: D1(d) = 6.88 (d / r0)^(5/3)
+    u = np.linspace(0, 0.5, 200001)
+    closed = 2 / 0.5 ** 2 * np.trapezoid((0.5 - u) * np.exp(-2 * 6.88 * (u / 0.05) ** (5 / 3)), u)
+    assert aperture_strehl(z, r0, R, pos, np.ones(n), u0) == pytest.approx(closed, rel=2e-3)

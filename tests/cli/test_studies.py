@@ -44,14 +44,32 @@ def test_bad_sweeps_exit_2_before_any_work(tmp_path, scen, args, needle):
     assert not (tmp_path / "o").exists()
 
 
-def test_spaceborne_stacking_sweeps_only_in_process(tmp_path):
+def test_spaceborne_stacking_sweep_on_dask_nests_its_stack(tmp_path):
+    """A space-borne stacking scenario swept on 2 Dask workers: each run's sub-images go to the same
+    cluster (nested tasks, no cluster per run), and the numbers equal the run in this process."""
+    import yaml
+
+    from salkit.io import open_dataset
+    from salkit.systems.study import run_point
+
     from ..conftest import EXAMPLES
-    r = salkit("sweep", EXAMPLES / "spaceborne_geo.yaml", "--vary", "receiver.noise.signal_photons=1,2",
-               "--out", tmp_path / "o", "--workers", "1")
-    assert r.returncode == 2 and "--workers 0" in r.stderr and not (tmp_path / "o").exists()
+    sets = ["stack.max_subimages=4", "scene.extended.extent=[1.0,1.0]", "processing.grid.nx=48", "processing.grid.ny=48"]
+    r = salkit("sweep", EXAMPLES / "spaceborne_geo.yaml", *[a for x in sets for a in ("--set", x)],
+               "--vary", "receiver.noise.signal_photons=0.5,2", "--metric", "snr_stack", "--out", tmp_path / "o",
+               "--workers", "2")
+    assert r.returncode == 0, r.stderr
+    ds = open_dataset(tmp_path / "o" / "sweep.nc")
+    assert (ds["status"].values == "ok").all()
+    data = yaml.safe_load(ds.attrs["scenario"])
+    data["receiver"]["noise"]["signal_photons"] = 2.0
+    here = run_point(data, ["snr_stack"])  # in this process (the stack on a cluster of its own)
+    assert here["metrics"]["snr_stack"] == ds["snr_stack"].values[1, 0]
+    assert ds["snr_stack"].values[1, 0] > ds["snr_stack"].values[0, 0]  # more photons, better stack
 
 
 def test_interrupted_sweep_resumes(tmp_path, scen, monkeypatch):
+    """Ctrl-C, then the machine 'killed' (its staging folder left behind): --resume adopts the
+    checkpoint, runs only what is missing, and equals the uninterrupted sweep."""
     import salkit.report.sweeps as engine  # where the sweep command finds its runner
     args = ["sweep", scen, "--vary", "waveform.bandwidth=5e9,6e9,7.5e9", "--metric", "peak_amplitude",
             "--workers", "0"]
@@ -69,9 +87,14 @@ def test_interrupted_sweep_resumes(tmp_path, scen, monkeypatch):
     out = tmp_path / "cut"
     r = salkit(*args, "--out", out)
     assert r.returncode == 130 and not out.exists()
+    # a killed machine leaves its staging folder, not .cut.resume: make it look like that
+    resume = tmp_path / ".cut.resume"
+    assert (resume / "checkpoint").is_dir()
+    resume.rename(tmp_path / ".cut.tmp-20261124T000000-dead")
     monkeypatch.setattr(engine, "run_point", lambda *a, **k: (calls.append(1), real(*a, **k))[1])
     calls.clear()
     r = salkit(*args, "--out", out, "--resume")
+    assert not list(tmp_path.glob(".cut.*"))  # the stale staging folder adopted and removed
     assert r.returncode == 0, r.stderr
     assert len(calls) == 1  # two runs were in the checkpoint
     a, b = open_dataset(whole / "sweep.nc"), open_dataset(out / "sweep.nc")

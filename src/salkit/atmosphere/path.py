@@ -117,7 +117,8 @@ def path_frame(u0: np.ndarray, along: np.ndarray) -> tuple[np.ndarray, np.ndarra
 def build_path(cn2, slant_range: float, wavelength: float, layers: int, n: int, dx: float,
                u0: np.ndarray, a: np.ndarray, seed: int = 0, outer_scale: float | None = None,
                inner_scale: float | None = None, centre: tuple[float, float] = (0.0, 0.0)) -> TurbulentPath:
-    """Equal layers over the path, each at the middle of its slab, with screens of n x n at dx.
+    """Equal layers over the path, each at the middle of its slab (:func:`path_layers`), with
+    screens of n x n at dx.
 
     ``cn2`` is a constant or one value per layer (index 0 next to the scene): a profiled path.
     Warns (with the numbers) when the layer spacing exceeds seed 004 eq 8 for the strongest layer.
@@ -152,6 +153,36 @@ def build_path(cn2, slant_range: float, wavelength: float, layers: int, n: int, 
     TurbulentPath
         Screens (rad), layer distances z (m), per-layer r0 (m) and the frame.
     """
+    z, r0 = path_layers(cn2, slant_range, wavelength, layers)
+    scr = np.empty((layers, n, n), np.float32)
+    rng = np.random.default_rng(seed)
+    for i in range(layers):
+        scr[i] = phase_screens(n, dx, float(r0[i]), count=1, rng=rng, outer_scale=outer_scale,
+                               inner_scale=inner_scale, dtype=np.float32)[0]
+    u0, a, b = path_frame(u0, a)
+    origin = np.tile(np.array(centre) - (n - 1) / 2 * dx, (layers, 1))
+    return TurbulentPath(scr, z, r0, dx, origin, u0, a, b, wavelength, float(slant_range))
+
+
+def path_layers(cn2, slant_range: float, wavelength: float, layers: int) -> tuple[np.ndarray, np.ndarray]:
+    """The layers of :func:`build_path` without their screens: distances from the scene and Fried
+    parameters. Warns (with the numbers) when the spacing exceeds seed 004 eq 8.
+
+    Parameters
+    ----------
+    cn2 : float or sequence of float
+        Cn^2, m^(-2/3): constant, or one value per layer (index 0 next to the scene).
+    slant_range : float
+        Path length, m.
+    wavelength : float
+        m.
+    layers : int
+
+    Returns
+    -------
+    (float64 (L,), float64 (L,))
+        z (m) and r0 (m) of each layer.
+    """
     if layers < 1:
         raise ScenarioError("atmosphere.layers", layers, "must be >= 1")
     prof = np.broadcast_to(np.asarray(cn2, dtype=np.float64), (layers,)) if np.ndim(cn2) == 0 else \
@@ -167,15 +198,51 @@ def build_path(cn2, slant_range: float, wavelength: float, layers: int, n: int, 
                       f"(seed 004 eq 8) for Cn2 = {prof.max():g}; use at least {math.ceil(slant_range / zmax)} "
                       f"layers", UserWarning, stacklevel=2)
     z = (np.arange(layers) + 0.5) * dz
-    r0 = np.asarray(r0_from_cn2(prof, dz, wavelength), dtype=np.float64)
-    scr = np.empty((layers, n, n), np.float32)
-    rng = np.random.default_rng(seed)
-    for i in range(layers):
-        scr[i] = phase_screens(n, dx, float(r0[i]), count=1, rng=rng, outer_scale=outer_scale,
-                               inner_scale=inner_scale, dtype=np.float32)[0]
-    u0, a, b = path_frame(u0, a)
-    origin = np.tile(np.array(centre) - (n - 1) / 2 * dx, (layers, 1))
-    return TurbulentPath(scr, z, r0, dx, origin, u0, a, b, wavelength, float(slant_range))
+    return z, np.asarray(r0_from_cn2(prof, dz, wavelength), dtype=np.float64)
+
+
+def aperture_strehl(z, r0, slant_range: float, positions: np.ndarray, weights: np.ndarray, u0: np.ndarray,
+                    outer_scale: float | None = None, inner_scale: float | None = None) -> float:
+    """Expected |I(t)|^2 / |I_vacuum(t)|^2 at a point target t at the scene centre (the
+    long-exposure Strehl ratio of the synthetic aperture): sum_nm w_n w_m exp(-D2(d_nm) / 2) /
+    (sum w)^2, with D2 = 4 D1 the two-way structure function of the phases of pulses d_nm apart
+    across the line of sight (D1 = sum_i D(d z_i / R; r0_i), the path's spherical-wave one) and
+    E exp(i (phi_n - phi_m)) = exp(-D2 / 2) exact for Gaussian phase screens. Pulses on a straight
+    track at equal spacing (the lags' separations are k times the mean step).
+
+    Parameters
+    ----------
+    z, r0 : float arrays (L,)
+        Layer distances from the scene and Fried parameters, m (:func:`path_layers`).
+    slant_range : float
+        m.
+    positions : float64 (N, 3)
+        Antenna positions, m.
+    weights : float64 (N,)
+        Azimuth amplitude weights of the image formation.
+    u0 : float64 (3,)
+        Unit line of sight, scene to antenna.
+    outer_scale, inner_scale : float, optional
+        Von Karman L0 and inner scale l0 of the screens, m.
+
+    Returns
+    -------
+    float
+        In (0, 1].
+    """
+    w = np.asarray(weights, np.float64)
+    p = np.asarray(positions, np.float64)
+    n = len(w)
+    if n < 2:
+        return 1.0
+    across = (p[-1] - p[0]) - np.dot(p[-1] - p[0], u0) * u0
+    step = float(np.linalg.norm(across)) / (n - 1)
+    c = np.correlate(w, w, "full")[n - 1:]  # lags 0 .. n-1
+    lag = np.arange(n) * step
+    probe = np.unique(np.concatenate([np.linspace(0.0, lag[-1], 513), lag[:64]]))  # D is smooth: interpolate
+    d1 = sum(structure_function(probe * zi / slant_range, ri, outer_scale, inner_scale) for zi, ri in zip(z, r0))
+    d2 = 4.0 * np.interp(lag, probe, d1)
+    return float((c[0] + 2.0 * np.sum(c[1:] * np.exp(-0.5 * d2[1:]))) / np.sum(w) ** 2)
 
 
 @njit(cache=True, inline="always")

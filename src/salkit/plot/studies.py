@@ -53,7 +53,8 @@ def sweep_heatmaps(rows, cols, grids, irws, out, labels) -> Path:
 def sweep_figure(ds, metric: str, path) -> Path:
     """A sweep's metric against its first varied field: the median over the realisations with the
     5-95 % band, one line per value of the second varied field, its theory dashed where the sweep
-    holds one, a log axis for a log sweep.
+    holds one (an ensemble expectation: the mean over the realisations is drawn beside it, dotted),
+    a log axis for a log sweep.
 
     Parameters
     ----------
@@ -92,6 +93,9 @@ def sweep_figure(ds, metric: str, path) -> Path:
                 t = t.isel({d: 0 for d in other if d in t.dims})
             ax.plot(x.values, t.median("realisation", skipna=True).values, "--", color=line.get_color(),
                     label="theory" if v is None else None)
+            if a.sizes["realisation"] > 1:  # theories are ensemble expectations: the mean beside them
+                ax.plot(x.values, a.mean("realisation", skipna=True).values, "x:", color=line.get_color(),
+                        label="mean" if v is None else None)
     if x.attrs.get("scale") == "log":
         ax.set_xscale("log")
     unit = ds[metric].attrs.get("units", "1")

@@ -6,7 +6,6 @@ from __future__ import annotations
 import shutil
 from pathlib import Path
 
-from ..errors import ScenarioError
 from ..resources import dask_client
 from ..studies.engine import execute
 from ..systems.study import as_result, run_point
@@ -47,16 +46,8 @@ def run_sweep(scenario, plan, invalid: dict, out_dir, *, workers: int | None = N
     dict
         The sweep's metrics.
 
-    Raises
-    ------
-    ScenarioError
-        A space-borne stacking scenario on Dask (each of its runs starts a cluster of its own).
+    A space-borne stacking scenario's sub-images run on the sweep's cluster too (nested tasks).
     """
-    kind = getattr(getattr(scenario, "experiment", None), "kind", None)
-    if kind == "spaceborne_geo" and not (scheduler is None and workers == 0):
-        raise ScenarioError("--workers", workers if scheduler is None else scheduler,
-                            "a space-borne stacking scenario starts its own Dask cluster in every run; sweep it "
-                            "in this process (--workers 0)")
     out = Path(out_dir)
     images = out / IMAGES if keep_images else None
     if images is not None:

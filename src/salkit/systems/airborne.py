@@ -23,6 +23,9 @@ from ..geometry.collection import equalisation_efficiency
 from ..simulate import signal_scale
 from ..autofocus import autofocus, history_metrics
 from ..autofocus import pulse_focus
+from ..atmosphere.beam import layered_r0_spherical
+from ..atmosphere.path import aperture_strehl, path_layers
+from ..signals.windows import Window
 
 
 def analyse_image(image: xr.Dataset, scenario: Scenario | None) -> tuple[dict, dict]:
@@ -101,6 +104,46 @@ def noise_metrics(scenario: Scenario, col, raw: xr.Dataset, image: xr.Dataset, d
     return out
 
 
+def turbulence_metrics(scenario: Scenario, col, image: xr.Dataset, peak: float) -> dict:
+    """What turbulence did to a point-target image, against the same scenario without it (noise
+    off, no autofocus; one more simulation and image formation): the intensity at the target over
+    the turbulence-free one (``strehl_at_target``) against its r0-based expectation
+    (:func:`salkit.atmosphere.path.aperture_strehl`, for phase screens), the final peak over the
+    turbulence-free peak (``peak_ratio``), and the path's two-way spherical-wave Fried parameter.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        With an atmosphere and point targets only.
+    col : Collection
+    image : xarray.Dataset
+        The image through turbulence before autofocus.
+    peak : float
+        The final image's peak amplitude (after autofocus, if any).
+
+    Returns
+    -------
+    dict
+    """
+    atm, p = scenario.atmosphere, scenario.processing
+    nz = scenario.receiver.noise
+    vac = scenario.model_copy(update={"atmosphere": None, "receiver": scenario.receiver.model_copy(
+        update={"noise": nz.model_copy(update={"enabled": False})})})
+    ref = focus(simulate(vac), p, scenario=vac)["image"].values
+    at = np.unravel_index(np.argmax(np.abs(ref)), ref.shape)  # the target's pixel
+    R = float(np.linalg.norm(col.center_position))
+    z, r0 = path_layers(atm.cn2, R, scenario.waveform.wavelength, atm.layers)
+    u0 = col.center_position / R
+    m = {"strehl_at_target": float(np.abs(image["image"].values[at]) ** 2 / np.abs(ref[at]) ** 2),
+         "peak_ratio": float(peak / np.abs(ref).max()),
+         "r0_two_way_m": layered_r0_spherical(r0, z, R) * 2 ** (-6 / 5)}
+    if atm.model == "phase_screen":  # wave optics adds amplitude scintillation: no closed form here
+        w = Window(p.window, p.taylor_nbar, p.taylor_sll)(col.n_pulses)
+        m["strehl_at_target_theory"] = aperture_strehl(z, r0, R, col.positions, w, u0, atm.outer_scale,
+                                                       atm.inner_scale)
+    return m
+
+
 def autofocus_image(image: xr.Dataset, scenario: Scenario | None, method: str | None = None,
                    kernel: str | None = None, max_iter: int | None = None):
     """Autofocus a formed image; its metrics before, and the history.
@@ -167,6 +210,8 @@ def run(scenario: Scenario, out_dir=None, progress: Progress = None) -> RunResul
                     "extended_scene": int(scenario.scene.extended is not None)})  # targets sit in clutter
     if scenario.receiver.noise.enabled:
         metrics.update(noise_metrics(scenario, col, raw, image, details))
+    if scenario.atmosphere is not None and scenario.scene.extended is None:
+        metrics.update(turbulence_metrics(scenario, col, data.get("image_focus.nc", image), metrics["peak_amplitude"]))
     return RunResult("airborne", scenario.name, scenario.description, dump_scenario(scenario), metrics, data,
                      figures={"details": details, "autofocus": af_res, "raw": raw,
                               "timings": {"simulate_s": t_sim, "focus_s": t_focus}})
