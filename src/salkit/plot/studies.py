@@ -74,7 +74,7 @@ def sweep_figure(ds, metric: str, path) -> Path:
     fig, ax = _subplots(figsize=(6.4, 4.2))
     second = dims[1] if len(dims) > 1 else None
     groups = [(None, ds)] if second is None else [(v, ds.sel({second: v})) for v in ds[second].values]
-    for v, sub in groups:
+    for gi, (v, sub) in enumerate(groups):
         a = sub[metric]
         other = [d for d in a.dims if d not in (dims[0], "realisation")]
         if other:  # a third axis and beyond: their first value
@@ -92,10 +92,10 @@ def sweep_figure(ds, metric: str, path) -> Path:
             if other:
                 t = t.isel({d: 0 for d in other if d in t.dims})
             ax.plot(x.values, t.median("realisation", skipna=True).values, "--", color=line.get_color(),
-                    label="theory" if v is None else None)
+                    label="theory (dashed)" if gi == 0 else None)
             if a.sizes["realisation"] > 1:  # theories are ensemble expectations: the mean beside them
                 ax.plot(x.values, a.mean("realisation", skipna=True).values, "x:", color=line.get_color(),
-                        label="mean" if v is None else None)
+                        label="mean (dotted)" if gi == 0 else None)
     if x.attrs.get("scale") == "log":
         ax.set_xscale("log")
     unit = ds[metric].attrs.get("units", "1")
