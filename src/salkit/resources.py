@@ -67,6 +67,22 @@ def set_limit(nbytes: int | None) -> None:
     _LIMIT = None if nbytes is None else int(nbytes)
 
 
+def user_limit() -> int | None:
+    """The user's memory limit (``--max-memory``, ``--memory-limit``, ``SALKIT_MAX_MEMORY``), bytes,
+    or None: a cap on everything the process holds, unlike the memory available now, which
+    already excludes what it holds.
+
+    Returns
+    -------
+    int or None
+    """
+    cands = [v for v in (_LIMIT,) if v is not None]
+    env = os.environ.get("SALKIT_MAX_MEMORY")
+    if env:
+        cands.append(parse_size(env, "SALKIT_MAX_MEMORY"))
+    return min(cands) if cands else None
+
+
 def _cgroup_room() -> int | None:
     try:
         mx = open("/sys/fs/cgroup/memory.max").read().strip()
@@ -132,6 +148,26 @@ def gib(n: float) -> str:
     return f"{n / 2 ** 30:.3g} GiB"
 
 
+def size_text(n: float) -> str:
+    """A byte count in MiB below 1 GiB, else in GiB, for messages.
+
+    Parameters
+    ----------
+    n : float
+        Bytes.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> size_text(512 * 2 ** 20), size_text(3 * 2 ** 30)
+    ('512 MiB', '3 GiB')
+    """
+    return f"{n / 2 ** 20:.3g} MiB" if n < 2 ** 30 else gib(n)
+
+
 def check_memory(need: float, what: str, hint: str) -> None:
     """Refuse a job whose estimated peak memory exceeds what is available.
 
@@ -154,7 +190,7 @@ def check_memory(need: float, what: str, hint: str) -> None:
         raise ResourceError(f"{what} needs about {gib(need)} of memory, {gib(have)} available; {hint}")
 
 
-__all__ = ["available_memory", "check_memory", "gib", "parse_size", "set_limit"]
+__all__ = ["available_memory", "check_memory", "gib", "parse_size", "set_limit", "size_text", "user_limit"]
 
 
 def _in_dask_task() -> bool:

@@ -21,3 +21,26 @@ def test_bad_files_exit_2(tmp_path, scen):
         r = salkit(*args)
         assert r.returncode == 2, args
         assert "Traceback" not in r.stderr
+
+
+def test_focus_under_a_memory_limit_runs_in_tiles(tmp_path, scen):
+    """--memory-limit: the job too big for it runs in tiles and pulse blocks read from the file (a
+    note says how), the image equal to the untiled one; a limit one tile cannot fit: exit 2, the
+    memory and the budget named, no folder."""
+    import numpy as np
+    from salkit.io import open_dataset
+    raw = tmp_path / "raw.nc"
+    salkit("simulate", scen, "--out", raw)
+    r = salkit("focus", raw, "--out", tmp_path / "whole", "--algorithm", "bp")
+    assert r.returncode == 0, r.stderr
+    r = salkit("focus", raw, "--out", tmp_path / "tiled", "--algorithm", "bp", "--memory-limit", "1MiB")
+    assert r.returncode == 0, r.stderr
+    assert "note: focusing bp in" in r.stderr and "tiles" in r.stderr
+    a, b = open_dataset(tmp_path / "whole" / "image.nc"), open_dataset(tmp_path / "tiled" / "image.nc")
+    assert b.attrs["pulse_block"] < a.sizes["pulse"] and b.attrs["tiles"] > 1
+    np.testing.assert_array_equal(a["image"].values, b["image"].values)
+    r = salkit("focus", raw, "--out", tmp_path / "no", "--algorithm", "bp", "--memory-limit", "64KiB")
+    assert r.returncode == 2 and "one tile of" in r.stderr and "available (the budget)" in r.stderr
+    assert not (tmp_path / "no").exists() and "Traceback" not in r.stderr
+    r = salkit("focus", raw, "--out", tmp_path / "no", "--memory-limit", "lots")
+    assert r.returncode == 2 and "--memory-limit" in r.stderr

@@ -4,6 +4,7 @@ warnings on stderr, the progress bar, the command line as typed."""
 from __future__ import annotations
 
 import functools
+import logging
 from typing import Optional
 
 import typer
@@ -51,6 +52,20 @@ def show_warning(message, category, filename, lineno, file=None, line=None) -> N
         Unused (the signature of :func:`warnings.showwarning`).
     """
     err.print(f"[yellow]warning:[/] {rich_escape(str(message))}", highlight=False, soft_wrap=True)
+
+
+class _NoteHandler(logging.Handler):
+    """salkit's informational log lines (how a job is cut to fit its memory) as ``note: ...`` on stderr."""
+
+    def emit(self, record: logging.LogRecord) -> None:
+        err.print(f"[cyan]note:[/] {rich_escape(record.getMessage())}", highlight=False, soft_wrap=True)
+
+
+def _notes() -> None:
+    log = logging.getLogger("salkit")
+    if not any(isinstance(h, _NoteHandler) for h in log.handlers):
+        log.addHandler(_NoteHandler())
+    log.setLevel(logging.INFO)
 
 
 def _say(msg: str) -> None:
@@ -103,8 +118,8 @@ def _version(value: bool):
 
 @app.callback()
 def _main(debug: bool = typer.Option(False, "--debug", help="show tracebacks"),
-          max_memory: Optional[str] = typer.Option(None, "--max-memory", metavar="SIZE", help="refuse jobs whose estimated peak "
-                                                   "memory exceeds this (e.g. 8GiB); default: what is available"),
+          max_memory: Optional[str] = typer.Option(None, "--max-memory", metavar="SIZE", help="memory the jobs may use (e.g. 8GiB; "
+                                                   "default: what is available): image formation beyond it runs in tiles (bp, ffbp), other jobs are refused"),
           version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
                                        help="print the version and exit")):
     """salkit: synthetic aperture ladar simulation, imaging and metrics."""
@@ -112,6 +127,7 @@ def _main(debug: bool = typer.Option(False, "--debug", help="show tracebacks"),
     _STATE["debug"] = debug
     if not debug:
         warnings.showwarning = show_warning
+    _notes()
     from ..resources import parse_size, set_limit
     try:
         set_limit(parse_size(max_memory) if max_memory is not None else None)

@@ -8,7 +8,7 @@ from typing import Optional
 import typer
 
 from .app import _Bar, _command_line, _guard, out
-from .options import _check_out_file, _export_sicd, _grid, _origin, _report_check, _summary
+from .options import _check_out_file, _export_sicd, _grid, _origin, _report_check, _summary, apply_memory_limit
 
 
 @_guard
@@ -25,6 +25,7 @@ def focus(raw: Path = typer.Argument(..., metavar="RAW", help="raw or phase-hist
           autofocus: Optional[str] = typer.Option(None, metavar="NAME", help="none | pga | min-entropy (on the image) | pulse (one phase per pulse)"),
           kernel: Optional[str] = typer.Option(None, metavar="NAME", help="PGA phase-gradient kernel: pd | lumv | ev"),
           sicd: bool = typer.Option(False, "--sicd", help="also write the image as SICD (image.nitf), checked by sarkit"),
+          memory_limit: Optional[str] = typer.Option(None, "--memory-limit", metavar="SIZE", help="memory budget, e.g. 512MiB or 4GiB (default: what is available): a bigger job runs in tiles of the image (bp, ffbp) and, for bp, blocks of pulses read from the .nc as needed"),
           overwrite: bool = typer.Option(False, "--overwrite", help="replace a non-empty --out once the new run is complete")):
     """Focus a raw file (.nc, .cphd or GOTCHA .mat) into image.nc, metrics.json, figures and report.html."""
     from ..choices import ACCURACY, ALGORITHMS, AUTOFOCUS_METHODS, PGA_KERNELS, PLANES, WINDOWS, check_choice
@@ -37,10 +38,11 @@ def focus(raw: Path = typer.Argument(..., metavar="RAW", help="raw or phase-hist
         if v is not None:
             check_choice(opt, v, allowed)
     from ..io import open_dataset, read_phase_data
+    apply_memory_limit(memory_limit)
     if raw.suffix.lower() in (".cphd", ".mat"):
         probe = None
     else:
-        probe = open_dataset(raw)
+        probe = open_dataset(raw, lazy=True)  # the signal stays on disk until focusing reads it
     from ..io.runfolder import RunFolder
     grid = _grid(nx, ny, dx, dy, plane or "slant")
     if probe is not None and probe.attrs.get("salkit_kind") == "raw_downlooking":
@@ -53,7 +55,7 @@ def focus(raw: Path = typer.Argument(..., metavar="RAW", help="raw or phase-hist
             plot.image_db(image, tmp / "image.png", title="DL-SAL eq-19 image")
         globals()["out"].print(f"wrote {Path(out_dir) / 'image.nc'}")
         return
-    ds = read_phase_data(raw)
+    ds = read_phase_data(raw, lazy=True)  # NetCDF: the signal read as focusing needs it
     if grid is None and plane is not None:
         src = "the scenario stored in the file" if "scenario" in ds.attrs else "the default (256 x 256 at 0.8 of the resolution)"
         out.print(f"--plane {plane} without --nx/--ny/--dx/--dy: grid size and spacing from {src}, "

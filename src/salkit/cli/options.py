@@ -57,6 +57,17 @@ def _origin(origin: Optional[str]):
     return llh
 
 
+def apply_memory_limit(text: Optional[str]) -> None:
+    """``--memory-limit SIZE``: the memory budget of this command (the smaller of it and
+    ``--max-memory``); jobs beyond it run in tiles where they can, and are refused where they cannot."""
+    if text is None:
+        return
+    from ..resources import parse_size, set_limit, user_limit
+    b = parse_size(text, "--memory-limit")
+    cap = user_limit()
+    set_limit(b if cap is None else min(b, cap))
+
+
 def _preflight(sc) -> None:
     """Every check that needs no work (:func:`salkit.systems.preflight.preflight`), its warnings printed."""
     from ..systems.preflight import preflight

@@ -7,7 +7,7 @@ from typing import List, Optional
 import typer
 
 from .app import _Bar, _command_line, _guard, out
-from .options import _check_out_file, _preflight, _summary
+from .options import _check_out_file, _preflight, _summary, apply_memory_limit
 
 
 @_guard
@@ -18,7 +18,8 @@ def run(scenario: Path = typer.Argument(..., metavar="SCENARIO.yaml", help="scen
         workers: Optional[int] = typer.Option(None, metavar="N", help="Dask worker processes of a local cluster (stacking runs; default: one per core)"),
         scheduler: Optional[str] = typer.Option(None, metavar="ADDRESS", help="address of an existing Dask scheduler, e.g. tcp://host:8786"),
         overwrite: bool = typer.Option(False, "--overwrite", help="replace a non-empty --out once the new run is complete"),
-        dry_run: bool = typer.Option(False, "--dry-run", help="validate the scenario, sampling and memory; write nothing")):
+        dry_run: bool = typer.Option(False, "--dry-run", help="validate the scenario, sampling and memory; write nothing"),
+        memory_limit: Optional[str] = typer.Option(None, "--memory-limit", metavar="SIZE", help="memory budget, e.g. 512MiB or 4GiB (default: what is available): focusing beyond it runs in tiles of the image (bp, ffbp)")):
     """Simulate, focus, measure, draw and report one scenario (into a folder that is complete or absent)."""
     from ..io.runfolder import RunFolder
     from ..params import load_scenario
@@ -27,6 +28,7 @@ def run(scenario: Path = typer.Argument(..., metavar="SCENARIO.yaml", help="scen
     sets += [f"stack.workers={workers}"] if workers is not None else []
     sets += [f"stack.scheduler={scheduler}"] if scheduler is not None else []
     sc = load_scenario(scenario, sets)
+    apply_memory_limit(memory_limit)
     _preflight(sc)
     if dry_run:
         out.print(f"{scenario}: valid; sampling and memory checks passed; nothing written", highlight=False)

@@ -267,7 +267,7 @@ def range_profiles(ph: np.ndarray, freq: np.ndarray, upsample: int, range_window
 def backproject(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.ndarray,
                 row_origin: np.ndarray, rdir: np.ndarray, rg: np.ndarray, weight: np.ndarray,
                 range_window: np.ndarray, upsample: int = BP_UPSAMPLE, block: int = 32,
-                progress=None, linear_compensation: bool = True) -> np.ndarray:
+                progress=None, linear_compensation: bool = True, out=None) -> np.ndarray:
     """Backproject a phase history onto a plane grid.
 
     Parameters
@@ -295,14 +295,21 @@ def backproject(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_ran
         Pulses per kernel call.
     linear_compensation : bool
         Pre-compensate the mean attenuation of linear interpolation (:func:`linear_interp_gain`).
+    out : (float32 (nx, ny), float32 (nx, ny)), optional
+        Accumulators (real, imaginary) to add into: pulse blocks backprojected one after another
+        into the same accumulators give the whole collection's image, kernel call for kernel call
+        (blocks a multiple of ``block`` pulses long).
 
     Returns
     -------
-    complex64 (nx, ny), not normalised.
+    complex (nx, ny), not normalised.
     """
     nx, ny = row_origin.shape[0], rg.size
-    img_re = np.zeros((nx, ny), np.float32)
-    img_im = np.zeros((nx, ny), np.float32)
+    if out is None:
+        img_re = np.zeros((nx, ny), np.float32)
+        img_im = np.zeros((nx, ny), np.float32)
+    else:
+        img_re, img_im = out
     P = ph.shape[0]
     rdir = np.ascontiguousarray(rdir, dtype=np.float64)
     rg = np.ascontiguousarray(rg, dtype=np.float64)

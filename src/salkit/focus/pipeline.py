@@ -8,26 +8,30 @@ which share one signature and one normalisation (:mod:`salkit.focus.formers`).
 """
 from __future__ import annotations
 
+import logging
 from typing import Callable, Optional
 
 import numpy as np
 import xarray as xr
 
 from ..choices import ACCURACY, PLANES, check_choice
-from ..errors import ScenarioError
+from ..errors import DataFileError, ResourceError, ScenarioError
 from ..geometry.collection import truth_positions
 from ..io.datasets import make_image_dataset
 from ..metrics.pointtarget import window_ipr
 from ..params.models import Grid, Processing, Scenario
 from ..params.scenario import stored_scenario
-from ..resources import check_memory
+from ..resources import available_memory, parse_size, size_text, user_limit
 from ..signals.windows import Window
 from ..tolerances import GRID_SPACING_OF_RESOLUTION
 from ..simulate.echoes import memory_estimate as simulate_memory_estimate, signal_shape
 from . import bp, exact, ffbp, omegak, pfa  # noqa: F401  (each registers its former)
 from .downlooking import focus_downlooking_raw
-from .formers import ImageGrid, get_former
+from .formers import ImageGrid, ImageResult, get_former
 from .phasehistory import PhaseHistory, default_grid, phase_history, theory_resolution
+from .tiles import DatasetPulses, InMemoryPulses, form_tiles, plan_tiling
+
+_log = logging.getLogger("salkit.focus")
 
 #: Range-profile upsampling of ``bp`` at ``accuracy = "high"`` (-78 dB against the exact matched filter).
 HIGH_ACCURACY_UPSAMPLE = 32
@@ -95,7 +99,8 @@ def run_memory_estimate(scenario: Scenario) -> tuple[float, str]:
 
 def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=None, algorithm: str | None = None,
           grid: Grid | None = None, window_name: str | None = None, plane: str | None = None,
-          progress: Optional[Callable[[int, int], None]] = None, accuracy: str | None = None) -> xr.Dataset:
+          progress: Optional[Callable[[int, int], None]] = None, accuracy: str | None = None,
+          memory_limit: float | str | None = None) -> xr.Dataset:
     """Form a complex image from raw data or a phase history, with the processor its kind names.
 
     Parameters
@@ -118,9 +123,16 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=
     plane : {"slant", "ground"}, optional
         Overrides the grid's image plane (the grid's size and spacing are kept).
     progress : callable, optional
-        ``progress(done, total)`` in pulses.
+        ``progress(done, total)`` in pulses (in tiles when tiled; one with a ``renamed(unit)``
+        method, :class:`salkit.systems.result.Stage`, is renamed "tiles formed").
     accuracy : {"standard", "high"}, optional
         Overrides ``processing.accuracy`` (high: bp at 32x profiles or more, ffbp on finer polar grids).
+    memory_limit : int, float or str, optional
+        Memory budget, bytes or a size such as ``"512MiB"`` (default, and at most: the memory
+        available, :func:`salkit.resources.available_memory`). A job whose estimate exceeds it is
+        formed in tiles of the output grid (bp and ffbp) and, for bp of spotlight data, with its
+        pulses in blocks read from ``raw`` as needed (``raw`` may be opened lazily from a file);
+        the image's ``tiling`` attribute says how (:mod:`salkit.focus.tiles`).
 
     Returns
     -------
@@ -136,21 +148,23 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=
     DataFileError
         For inconsistent arrays.
     ResourceError
-        When the estimated peak memory exceeds what is available.
+        When the estimated peak memory exceeds the budget and the job cannot be cut to fit (pfa,
+        omega-k; or one tile alone too big): the message names the memory and the budget.
 
     Examples
     --------
     >>> image = focus(raw, algorithm="pfa")  # doctest: +SKIP
+    >>> image = focus(raw, algorithm="ffbp", memory_limit="512MiB")  # doctest: +SKIP
     """
     proc = PROCESSORS.get(str(raw.attrs.get("salkit_kind", "raw")), focus_sal)
     return proc(raw, processing, scenario=scenario, algorithm=algorithm, grid=grid, window_name=window_name,
-                plane=plane, progress=progress, accuracy=accuracy)
+                plane=plane, progress=progress, accuracy=accuracy, memory_limit=memory_limit)
 
 
 def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=None,
               algorithm: str | None = None, grid: Grid | None = None, window_name: str | None = None,
               plane: str | None = None, progress: Optional[Callable[[int, int], None]] = None,
-              accuracy: str | None = None) -> xr.Dataset:
+              accuracy: str | None = None, memory_limit: float | str | None = None) -> xr.Dataset:
     """The SAL processor of :func:`focus` (raw dechirped data and phase histories): range
     compression, then the registered former :func:`get_former` names. Parameters as :func:`focus`.
 
@@ -160,7 +174,7 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
 
     Parameters
     ----------
-    raw, processing, scenario, algorithm, grid, window_name, plane, progress, accuracy
+    raw, processing, scenario, algorithm, grid, window_name, plane, progress, accuracy, memory_limit
         As :func:`focus`.
     """
     if scenario is None:
@@ -172,11 +186,20 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
     alg = algorithm or (processing.algorithm if processing else "bp")
     get_former(alg)  # an unknown former is refused before any work
     g0 = grid or (processing.grid if processing else None)
-    sig = raw["signal"]
-    need, what = memory_estimate(sig.shape[0], sig.shape[1], g0.nx if g0 else 256, g0.ny if g0 else 256, alg,
-                                 raw=raw.attrs.get("salkit_kind") == "raw")
-    check_memory(need, what, "use a smaller grid (--nx --ny) or fewer pulses")
-    ph = phase_history(raw, processing.chirp_correction if processing is not None else "none")
+    P, N = raw["signal"].shape
+    chirp = processing.chirp_correction if processing is not None else "none"
+    stripmap = str(raw.attrs.get("mode", "spotlight")) == "stripmap" and float(raw.attrs.get("real_aperture", 0)) > 0
+    held = float(raw["signal"].nbytes) if getattr(raw["signal"].variable, "_in_memory", True) else 0.0  # lazily opened: not held
+    tiling = plan_tiling(P, N, g0.nx if g0 else 256, g0.ny if g0 else 256, alg, memory_budget(memory_limit, held),
+                         raw=raw.attrs.get("salkit_kind") == "raw", stripmap=stripmap)
+    if tiling.pulse_block < P:  # the signal is read and range-compressed a block at a time
+        pulses = DatasetPulses(raw, chirp)
+        ph = pulses.geometry()
+    else:
+        ph = phase_history(raw, chirp)
+        if not held and not np.isfinite(ph.data).all():  # a lazily opened file is checked as it is read
+            raise DataFileError("variable 'signal' has non-finite values")
+        pulses = InMemoryPulses(ph)
     if plane is not None:
         check_choice("plane", plane, PLANES)
     g = grid or (processing.grid if processing else default_grid(ph, plane=plane or "slant"))
@@ -188,8 +211,15 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
         raise ScenarioError("processing.grid", f"dx={g.dx:g}, dy={g.dy:g}",
                             f"spacing must not exceed the resolution (azimuth {res['azimuth']:.4g} m, "
                             f"range {res['range']:.4g} m)")
+    if tiling.tiled and (g.nx, g.ny) != (tiling.nx, tiling.ny):
+        tiling = plan_tiling(P, N, g.nx, g.ny, alg, tiling.budget, raw=raw.attrs.get("salkit_kind") == "raw",
+                             stripmap=stripmap)
+    if tiling.tiled:
+        _log.info("focusing %s", tiling.describe())
+        if hasattr(progress, "renamed"):  # a stage of a run's progress: its unit is now the tile
+            progress = progress.renamed("tiles formed")
     result, ig, win, used = form_image(ph, p, g, algorithm=alg, window_name=window_name, accuracy=accuracy,
-                                       progress=progress)
+                                       progress=progress, tiling=tiling, pulses=pulses)
     acc, upsample = used["accuracy"], used["range_upsample"]
     M = ph.freq.size
     wi = window_ipr(win.name, win.nbar, win.sll)
@@ -207,6 +237,9 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
         "aperture_center": ph.center_position,
     }
     attrs.update({k: v for k, v in result.info.items() if k.startswith(("support_", "cover_", "illuminated_", "ffbp_", "pfa_"))})
+    if tiling.tiled:
+        attrs.update(tiling=tiling.describe(), tiles=tiling.n_tiles, tile_nx=tiling.tile_nx, tile_ny=tiling.tile_ny,
+                     pulse_block=tiling.pulse_block)
     for k in ("frequency_fit_residual_steps", "frequency_fit_residual", "phase_sign_converted"):
         if k in ph.attrs:
             attrs[k] = ph.attrs[k]
@@ -225,7 +258,7 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
 
 def form_image(ph: PhaseHistory, processing: Processing, grid: Grid, *, algorithm: str | None = None,
                window_name: str | None = None, accuracy: str | None = None,
-               progress: Optional[Callable[[int, int], None]] = None):
+               progress: Optional[Callable[[int, int], None]] = None, tiling=None, pulses=None):
     """Form the image of a phase history with a scenario's processing settings: the former, window
     and accuracy they name (each overridable), on ``grid``. The one place these settings become a
     former call (:func:`focus_sal`, and the sub-images of :mod:`salkit.stack`, which need no dataset).
@@ -239,7 +272,11 @@ def form_image(ph: PhaseHistory, processing: Processing, grid: Grid, *, algorith
     algorithm, window_name, accuracy : str, optional
         Overrides of ``processing.algorithm``, ``processing.window`` and ``processing.accuracy``.
     progress : callable, optional
-        ``progress(done, total)`` in pulses.
+        ``progress(done, total)`` in pulses (in tiles when tiled).
+    tiling : Tiling, optional
+        Form the image in the tiles (and pulse blocks) it names (:func:`salkit.focus.tiles.plan_tiling`).
+    pulses : InMemoryPulses or DatasetPulses, optional
+        Where the pulse blocks come from when tiled (default: ``ph``).
 
     Returns
     -------
@@ -254,8 +291,83 @@ def form_image(ph: PhaseHistory, processing: Processing, grid: Grid, *, algorith
                 else max(processing.range_upsample, HIGH_ACCURACY_UPSAMPLE))
     win = Window(window_name or processing.window, processing.taylor_nbar, processing.taylor_sll)
     ig = ImageGrid.of(ph, grid)
-    result = get_former(alg)(ph, ig, win, upsample=upsample, accuracy=acc, progress=progress)
+    if tiling is not None and tiling.tiled:
+        img = np.empty(ig.shape, np.complex64)
+
+        def sink(i0, j0, tile):
+            img[i0:i0 + tile.shape[0], j0:j0 + tile.shape[1]] = tile
+
+        info = form_tiles(pulses or InMemoryPulses(ph), ig, win, tiling, upsample=upsample, accuracy=acc,
+                          sink=sink, progress=progress)
+        result = ImageResult(img, info)
+    else:
+        result = get_former(alg)(ph, ig, win, upsample=upsample, accuracy=acc, progress=progress)
     return result, ig, win, {"algorithm": alg, "accuracy": acc, "range_upsample": upsample}
+
+
+def memory_budget(limit: float | str | None = None, held: float = 0.0) -> float:
+    """The memory a job may use, bytes: the smallest of ``limit`` (bytes or a size string), the
+    memory available now (:func:`salkit.resources.available_memory`) and the user's limit
+    (:func:`salkit.resources.user_limit`) less ``held``, what the caller already holds (a cap counts
+    it; the memory available now has it taken out already).
+
+    Parameters
+    ----------
+    limit : int, float or str, optional
+    held : float
+        Bytes the caller holds (an input signal in memory).
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ScenarioError
+        An unreadable or non-positive size (``--memory-limit``).
+    """
+    cands = [float(available_memory())]
+    if limit is not None:
+        b = float(parse_size(limit, "--memory-limit")) if isinstance(limit, str) else float(limit)
+        if not b > 0:
+            raise ScenarioError("--memory-limit", limit, "must be positive")
+        cands.append(b - held)
+    cap = user_limit()
+    if cap is not None:
+        cands.append(cap - held)
+    return max(min(cands), 0.0)
+
+
+def run_memory_plan(scenario: Scenario, limit: float | str | None = None):
+    """The memory plan of :func:`salkit.simulate.simulate` then :func:`focus`: simulating must fit
+    the budget; focusing, with the raw signal held, runs in tiles when it does not fit whole.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    limit : int, float or str, optional
+        As :func:`memory_budget`.
+
+    Returns
+    -------
+    Tiling
+        How focusing will be cut (:func:`salkit.focus.tiles.plan_tiling`).
+
+    Raises
+    ------
+    ResourceError
+        When simulating does not fit, or focusing cannot be cut to fit beside the signal.
+    """
+    sim, what = simulate_memory_estimate(scenario)
+    budget = memory_budget(limit)
+    if sim > budget:
+        raise ResourceError(f"{what} needs about {size_text(sim)} of memory, more than the {size_text(budget)} "
+                            "available (the memory free now, --max-memory or --memory-limit); reduce "
+                            "receiver.adc_rate, platform.aperture_length or waveform.prf")
+    P, N = signal_shape(scenario)
+    g, p = scenario.processing.grid, scenario.processing
+    stripmap = scenario.platform.mode == "stripmap" and scenario.platform.real_aperture > 0
+    return plan_tiling(P, N, g.nx, g.ny, p.algorithm, budget - 8.0 * P * N, raw=True, stripmap=stripmap)
 
 
 def _focus_downlooking(raw: xr.Dataset, processing=None, *, scenario=None, progress=None, **options) -> xr.Dataset:

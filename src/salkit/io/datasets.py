@@ -346,12 +346,16 @@ def input_file(path: str | Path) -> Path:
     return p
 
 
-def open_dataset(path: str | Path) -> xr.Dataset:
-    """Open a salkit NetCDF file fully into memory, with clear errors for bad files.
+def open_dataset(path: str | Path, lazy: bool = False) -> xr.Dataset:
+    """Open a salkit NetCDF file fully into memory (or lazily), with clear errors for bad files.
 
     Parameters
     ----------
     path : path
+    lazy : bool
+        Leave the data variables on disk, read when indexed (a block of pulses at a time by
+        :class:`salkit.focus.tiles.DatasetPulses`); the file stays open while the dataset lives.
+        Coordinates and the small per-pulse geometry are read now.
 
     Returns
     -------
@@ -360,10 +364,15 @@ def open_dataset(path: str | Path) -> xr.Dataset:
     Raises
     ------
     DataFileError
-        For a missing, unreadable or corrupt file (a corrupt variable is named).
+        For a missing, unreadable or corrupt file (a corrupt variable is named; lazily, a corrupt
+        block is found when it is read).
     """
     p = input_file(path)
     try:
+        if lazy:
+            ds = xr.open_dataset(p, engine="h5netcdf")
+            small = [n for n, v in ds.data_vars.items() if n != "signal" and v.nbytes <= 64 * 2 ** 20]
+            return ds.assign({n: ds[n].load() for n in small})
         with xr.open_dataset(p, engine="h5netcdf") as ds:
             ds = ds.load()
     except Exception as err:  # noqa: BLE001 - truncated/corrupt files raise many types
@@ -409,12 +418,15 @@ def _finite(ds: xr.Dataset, p, names):
                                 f"(NaN or inf), first at index {tuple(int(i) for i in idx)}")
 
 
-def read_raw(path: str | Path) -> xr.Dataset:
+def read_raw(path: str | Path, lazy: bool = False) -> xr.Dataset:
     """Read and validate a raw phase-history file (kinds ``raw`` or ``phase_history``).
 
     Parameters
     ----------
     path : path
+    lazy : bool
+        Leave the signal on disk (:func:`open_dataset`); its values are checked block by block as
+        focusing reads them (:class:`salkit.focus.tiles.DatasetPulses`).
 
     Returns
     -------
@@ -424,7 +436,7 @@ def read_raw(path: str | Path) -> xr.Dataset:
     ------
     DataFileError
     """
-    ds = open_dataset(path)
+    ds = open_dataset(path, lazy=lazy)
     kind = ds.attrs.get("salkit_kind")
     if kind not in RAW_KINDS:
         raise DataFileError(f"{path}: attribute salkit_kind = {kind!r}; expected one of {RAW_KINDS}")
@@ -436,9 +448,9 @@ def read_raw(path: str | Path) -> xr.Dataset:
     else:
         _require(ds, path, ["signal", "position", "reference_range", "frequency"], "phase_history")
         ds = normalise_phase_history(ds, str(path))
-    if not np.iscomplexobj(ds["signal"].values):
+    if ds["signal"].dtype.kind != "c":
         raise DataFileError(f"{path}: variable 'signal' must be complex, got {ds['signal'].dtype}")
-    _finite(ds, path, ["signal", "position", "reference_range"])
+    _finite(ds, path, ["position", "reference_range"] + ([] if lazy else ["signal"]))
     return ds
 
 

@@ -13,13 +13,15 @@ from .gotcha import read_gotcha
 PHASE_SUFFIXES = {".nc": "NetCDF", ".h5": "NetCDF", ".cphd": "CPHD", ".mat": "GOTCHA .mat"}
 
 
-def read_phase_data(path) -> "_xr.Dataset":
+def read_phase_data(path, lazy: bool = False) -> "_xr.Dataset":
     """Read a raw or phase-history file of any supported format, chosen by the suffix:
     ``.nc``/``.h5`` (salkit NetCDF), ``.cphd`` (CPHD 1.0), ``.mat`` (GOTCHA layout).
 
     Parameters
     ----------
     path : str or Path
+    lazy : bool
+        NetCDF: leave the signal on disk until it is indexed (:func:`salkit.io.read_raw`).
 
     Returns
     -------
@@ -37,7 +39,7 @@ def read_phase_data(path) -> "_xr.Dataset":
     if suf == ".mat":
         return read_gotcha(path)
     if suf in (".nc", ".h5", ".nc4", ".hdf5"):
-        return read_raw(path)
+        return read_raw(path, lazy=lazy)
     raise _E(f"{path}: unknown suffix {suf!r}; salkit reads {', '.join(PHASE_SUFFIXES)}")
 
 

@@ -3,7 +3,7 @@ sampling, the memory of simulating and focusing, the collection's sampling (PRF,
 grid) and, for wave optics, every turbulence class's screens."""
 from __future__ import annotations
 
-from ..focus import run_memory_estimate
+from ..focus.pipeline import run_memory_plan
 from ..geometry import build_collection, check_sampling
 from ..geometry.downlooking import design
 from ..resources import check_memory
@@ -30,9 +30,7 @@ def preflight(scenario) -> list[str]:
     sc = scenario
     if sc.is_downlooking:
         return list(design(sc.experiment).warnings)  # sampling errors are raised by the design
-    need, what = run_memory_estimate(sc)
-    check_memory(need, what, "reduce receiver.adc_rate, platform.aperture_length, waveform.prf or the grid "
-                 "(processing.grid.nx, ny)")
+    run_memory_plan(sc)  # simulating fits; focusing fits whole or in tiles beside the signal
     if sc.experiment is None:
         check_sampling(sc, build_collection(sc))
     atm = sc.atmosphere

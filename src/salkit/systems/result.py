@@ -71,6 +71,27 @@ def flat_numbers(d: dict) -> dict:
     return out
 
 
+class Stage:
+    """``progress(done, total)`` for one stage of a ``progress(stage, done, total)`` callback; a
+    processor whose unit of work changes (image formation in tiles) takes :meth:`renamed`.
+
+    Parameters
+    ----------
+    progress : callable
+    name : str
+    """
+
+    def __init__(self, progress, name: str):
+        self.progress, self.name = progress, name
+
+    def __call__(self, done: int, total: int) -> None:
+        self.progress(self.name, done, total)
+
+    def renamed(self, name: str) -> "Stage":
+        """The same callback under another stage name (unit of work)."""
+        return Stage(self.progress, name)
+
+
 def stage(progress: Progress, name: str):
     """``progress(done, total)`` for one stage of a ``progress(stage, done, total)`` callback.
 
@@ -82,6 +103,6 @@ def stage(progress: Progress, name: str):
 
     Returns
     -------
-    callable or None
+    Stage or None
     """
-    return (lambda d, n: progress(name, d, n)) if progress else None
+    return Stage(progress, name) if progress else None

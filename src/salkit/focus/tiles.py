@@ -1,0 +1,336 @@
+"""Image formation under a memory budget: the output grid in tiles and, for direct backprojection
+of spotlight data, the pulses in blocks, each sized to fit.
+
+:func:`plan_tiling` turns the sizes of a job and a budget (bytes) into a :class:`Tiling`: the whole
+image at once when the estimate (:func:`salkit.focus.pipeline.memory_estimate`) fits, else tiles
+(and pulse blocks) halved until one tile fits; a :class:`~salkit.errors.ResourceError` naming the
+memory one tile needs and the budget when even the smallest tile does not. :func:`form_tiles` forms
+the tiles one after another from a pulse source (:class:`InMemoryPulses`, or
+:class:`DatasetPulses`, which range-compresses each block of a lazily opened dataset as it is
+needed) and hands each finished tile to a sink (an array in memory, or a chunked file).
+
+Tiles are independent images of sub-grids, so a tiled image is the untiled one: backprojection
+pixel for pixel (pulse blocks accumulate into the same float32 accumulators, kernel call for kernel
+call), FFBP to its own accuracy (each tile's polar grids are sized for the tile).
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from typing import Callable, Optional
+
+import numpy as np
+
+from ..errors import DataFileError, ResourceError, ScenarioError
+from ..resources import size_text as gib
+from ..signals.windows import Window
+from .backprojection import backproject
+from .formers import ImageGrid, get_former
+from .phasehistory import PhaseHistory, phase_history
+
+#: Formers that can run in tiles of the output grid.
+TILEABLE = ("bp", "ffbp")
+#: Smallest tile side, pixels.
+MIN_TILE = 32
+#: Smallest pulse block (a multiple of backprojection's kernel block of 32 pulses).
+MIN_BLOCK = 64
+#: Pulses per kernel call of :func:`salkit.focus.backprojection.backproject` (blocks are multiples).
+KERNEL_BLOCK = 32
+
+
+@dataclass(frozen=True)
+class Tiling:
+    """How an image is formed: tiles of the output grid and blocks of pulses.
+
+    Attributes
+    ----------
+    nx, ny : int
+        The whole grid, pixels.
+    tile_nx, tile_ny : int
+        A tile's size, pixels (the last row and column of tiles may be smaller).
+    pulses, pulse_block : int
+        Pulses of the collection and per block (``pulse_block == pulses``: not blocked).
+    need : float
+        Estimated peak memory with one tile in work, bytes.
+    budget : float
+        The memory budget, bytes.
+    algorithm : str
+    """
+
+    nx: int
+    ny: int
+    tile_nx: int
+    tile_ny: int
+    pulses: int
+    pulse_block: int
+    need: float
+    budget: float
+    algorithm: str
+
+    @property
+    def tiled(self) -> bool:
+        """Whether the job runs in more than one tile or pulse block."""
+        return self.n_tiles > 1 or self.pulse_block < self.pulses
+
+    @property
+    def tiles(self) -> list[tuple[int, int, int, int]]:
+        """(i0, i1, j0, j1) pixel ranges of every tile, azimuth-major."""
+        return [(i, min(i + self.tile_nx, self.nx), j, min(j + self.tile_ny, self.ny))
+                for i in range(0, self.nx, self.tile_nx) for j in range(0, self.ny, self.tile_ny)]
+
+    @property
+    def n_tiles(self) -> int:
+        """Number of tiles."""
+        return math.ceil(self.nx / self.tile_nx) * math.ceil(self.ny / self.tile_ny)
+
+    @property
+    def blocks(self) -> list[tuple[int, int]]:
+        """(a, b) pulse ranges of the blocks (a last block shorter than 2 pulses joins the one before)."""
+        edges = list(range(0, self.pulses, self.pulse_block)) + [self.pulses]
+        if len(edges) > 2 and edges[-1] - edges[-2] < 2:
+            del edges[-2]
+        return list(zip(edges[:-1], edges[1:]))
+
+    def describe(self) -> str:
+        """One line for the log: how the job is cut and why."""
+        if not self.tiled:
+            return f"whole image at once (about {gib(self.need)}, budget {gib(self.budget)})"
+        parts = [f"{self.n_tiles} tiles of up to {self.tile_nx} x {self.tile_ny} pixels"]
+        if self.pulse_block < self.pulses:
+            parts.append(f"{len(self.blocks)} blocks of up to {self.pulse_block} of the {self.pulses} pulses")
+        return (f"{self.algorithm} in " + ", ".join(parts) + f": about {gib(self.need)} with one tile in work, "
+                f"within the budget of {gib(self.budget)}")
+
+
+def plan_tiling(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str, budget: float, *,
+                raw: bool = True, stripmap: bool = False, hold_image: bool = True) -> Tiling:
+    """The largest tiles (and pulse blocks) whose estimated memory fits ``budget``.
+
+    Parameters
+    ----------
+    n_pulses, n_samples : int
+        Signal shape.
+    nx, ny : int
+        Output grid, pixels.
+    algorithm : str
+        The former; only :data:`TILEABLE` ones are cut.
+    budget : float
+        Bytes.
+    raw : bool
+        Dechirped fast-time data (range-compressed here) rather than a phase history.
+    stripmap : bool
+        Stripmap data (backprojection equalises the beam over all pulses: no pulse blocks).
+    hold_image : bool
+        The whole image is assembled in memory (8 bytes a pixel more once tiled); False when the
+        tiles go to a file.
+
+    Returns
+    -------
+    Tiling
+
+    Raises
+    ------
+    ResourceError
+        When the job does not fit and cannot be cut (not a tileable former), or when one tile of
+        the smallest size does not fit: the message names the memory and the budget.
+    """
+    from .pipeline import memory_estimate  # the one estimate of a former's memory
+
+    def need(tx, ty, pb):
+        est = memory_estimate(pb, n_samples, tx, ty, algorithm, raw=raw)[0]
+        cut = (tx, ty, pb) != (nx, ny, n_pulses)
+        return est + (8.0 * nx * ny if (cut and hold_image) else 0.0)
+
+    tx, ty, pb = nx, ny, n_pulses
+    est = need(tx, ty, pb)
+    what = memory_estimate(n_pulses, n_samples, nx, ny, algorithm, raw=raw)[1]
+    if est <= budget:
+        return Tiling(nx, ny, tx, ty, n_pulses, pb, est, budget, algorithm)
+    if algorithm not in TILEABLE:
+        raise ResourceError(f"{what} needs about {gib(est)} of memory, more than the {gib(budget)} available "
+                            f"(the budget); {algorithm} cannot run in tiles: use --algorithm bp or ffbp, a smaller "
+                            "grid or fewer pulses")
+    blockable = algorithm == "bp" and not stripmap
+    while est > budget:
+        options = []
+        if max(tx, ty) > MIN_TILE:
+            if tx >= ty:
+                options.append((max(MIN_TILE, math.ceil(tx / 2)), ty, pb))
+            else:
+                options.append((tx, max(MIN_TILE, math.ceil(ty / 2)), pb))
+        if blockable and pb > MIN_BLOCK:
+            options.append((tx, ty, max(MIN_BLOCK, KERNEL_BLOCK * math.ceil(pb / 2 / KERNEL_BLOCK))))
+        if not options:
+            raise ResourceError(
+                f"{what}: one tile of {tx} x {ty} pixels" + (f" with blocks of {pb} pulses" if pb < n_pulses else "")
+                + f" needs about {gib(est)} of memory, more than the {gib(budget)} available (the budget); raise "
+                "--memory-limit"
+                + (", or use fewer pulses or samples" if not blockable else ", or use fewer samples"))
+        tx, ty, pb = min(options, key=lambda o: need(*o))
+        est = need(tx, ty, pb)
+    return Tiling(nx, ny, tx, ty, n_pulses, pb, est, budget, algorithm)
+
+
+class InMemoryPulses:
+    """Pulse blocks of a phase history held in memory.
+
+    Parameters
+    ----------
+    ph : PhaseHistory
+    """
+
+    def __init__(self, ph: PhaseHistory):
+        self.ph = ph
+
+    @property
+    def n_pulses(self) -> int:
+        """Pulses."""
+        return self.ph.data.shape[0]
+
+    def block(self, a: int, b: int) -> PhaseHistory:
+        """Pulses ``a`` to ``b`` (the collection's track and centre kept)."""
+        return dataclasses.replace(self.ph, data=self.ph.data[a:b], positions=self.ph.positions[a:b],
+                                   reference_range=self.ph.reference_range[a:b])
+
+    def whole(self) -> PhaseHistory:
+        """The whole phase history."""
+        return self.ph
+
+
+class DatasetPulses:
+    """Pulse blocks of a raw or phase-history dataset, range-compressed block by block as they are
+    read: the dataset may be opened lazily from a file (NetCDF through xarray), and only one block's
+    signal is in memory at a time.
+
+    Parameters
+    ----------
+    raw : xarray.Dataset
+    chirp_correction : str
+    """
+
+    def __init__(self, raw, chirp_correction: str = "none"):
+        self.raw, self.chirp = raw, chirp_correction
+        P = raw.sizes["slow_time"]
+        probe = phase_history(raw.isel(slow_time=[0, P // 2, P - 1]), chirp_correction)  # first, centre, last
+        self.track, self.center_position = probe.track, probe.center_position
+        self.probe = probe
+
+    @property
+    def n_pulses(self) -> int:
+        """Pulses."""
+        return self.raw.sizes["slow_time"]
+
+    def block(self, a: int, b: int) -> PhaseHistory:
+        """Pulses ``a`` to ``b``, read and range-compressed now."""
+        ph = phase_history(self.raw.isel(slow_time=slice(a, b)), self.chirp)
+        if not np.isfinite(ph.data).all():
+            raise DataFileError(f"variable 'signal': non-finite values in pulses {a} to {b - 1}")
+        return dataclasses.replace(ph, track=self.track, center_position=self.center_position)
+
+    def whole(self) -> PhaseHistory:
+        """Every pulse at once."""
+        return phase_history(self.raw, self.chirp)
+
+    def geometry(self, block: int = 4096) -> PhaseHistory:
+        """The collection without its signal (``data`` of zero samples): every pulse's position and
+        reference range, read block by block."""
+        pos, ref = [], []
+        for a in range(0, self.n_pulses, block):
+            b = min(self.n_pulses, a + block)
+            sub = self.raw.isel(slow_time=slice(a, b))
+            pos.append(np.asarray(sub["position"].values, np.float64))
+            ref.append(np.asarray(sub["reference_range"].values, np.float64))
+        return dataclasses.replace(self.probe, data=np.zeros((self.n_pulses, 0), np.complex64),
+                                   positions=np.concatenate(pos), reference_range=np.concatenate(ref))
+
+
+def tile_grid(ig: ImageGrid, i0: int, i1: int, j0: int, j1: int) -> ImageGrid:
+    """The sub-grid of pixels [i0:i1, j0:j1] of ``ig``: the same plane and the same coordinates.
+
+    Parameters
+    ----------
+    ig : ImageGrid
+    i0, i1, j0, j1 : int
+
+    Returns
+    -------
+    ImageGrid
+    """
+    az, rg = ig.azimuth[i0:i1], ig.range[j0:j1]
+    spec = ig.spec.model_copy(update={"nx": az.size, "ny": rg.size})
+    return ImageGrid(ig.plane, az, rg, spec)
+
+
+def _bp_blocks(pulses, tig: ImageGrid, window: Window, blocks, upsample: int) -> np.ndarray:
+    """Spotlight backprojection of one tile, the pulses in blocks into one pair of accumulators,
+    normalised as :func:`salkit.focus.bp.form_bp`."""
+    P = pulses.n_pulses
+    nx, ny = tig.shape
+    wa = window(P).astype(np.float32)
+    re, im = np.zeros((nx, ny), np.float32), np.zeros((nx, ny), np.float32)
+    row_origin = tig.plane.points(tig.azimuth, np.zeros_like(tig.azimuth))
+    wr = None
+    for a, b in blocks:
+        ph = pulses.block(a, b)
+        if wr is None:
+            wr = window(ph.freq.size)
+        W = np.broadcast_to(wa[None, a:b], (nx, b - a))
+        backproject(ph.data, ph.freq, ph.positions, ph.reference_range, row_origin, tig.plane.range, tig.range,
+                    W, wr, upsample=upsample, out=(re, im))
+    norm = np.maximum(np.broadcast_to(wa[None, :], (nx, P)).sum(axis=1), 1e-30) * wr.sum()
+    return ((re + 1j * im) / norm[:, None]).astype(np.complex64)
+
+
+def form_tiles(pulses, ig: ImageGrid, window: Window, tiling: Tiling, *, upsample: int, accuracy: str,
+               sink: Callable[[int, int, np.ndarray], None],
+               progress: Optional[Callable[[int, int], None]] = None) -> dict:
+    """Form the image tile by tile and hand each tile to ``sink(i0, j0, tile)``.
+
+    Parameters
+    ----------
+    pulses : InMemoryPulses or DatasetPulses
+    ig : ImageGrid
+        The whole grid.
+    window : Window
+    tiling : Tiling
+    upsample : int
+    accuracy : str
+    sink : callable
+        Receives each finished tile (complex64) at its pixel offsets.
+    progress : callable, optional
+        ``progress(done, total)`` in tiles.
+
+    Returns
+    -------
+    dict
+        The former's info of the last tile (support figures) and ``tiles``, ``tile_nx``, ``tile_ny``,
+        ``pulse_block``.
+    """
+    alg = tiling.algorithm
+    blocked = tiling.pulse_block < tiling.pulses
+    whole = None if blocked else pulses.whole()
+    probe = whole if whole is not None else pulses.block(0, 2)
+    stripmap = probe.mode == "stripmap" and probe.real_aperture > 0
+    backprojected = alg == "bp" and not stripmap
+    if blocked and not backprojected:
+        raise ScenarioError("processing.algorithm", alg, "only bp of spotlight data forms its pulses in blocks")
+    if whole is not None and backprojected:
+        pulses = InMemoryPulses(whole)
+    info = {}
+    tiles = tiling.tiles
+    for k, (i0, i1, j0, j1) in enumerate(tiles):
+        tig = tile_grid(ig, i0, i1, j0, j1)
+        if backprojected:
+            img = _bp_blocks(pulses, tig, window, tiling.blocks, upsample)
+            info = {"support_azimuth": tiling.pulses, "support_range": probe.freq.size}
+        else:
+            res = get_former(alg)(whole, tig, window, upsample=upsample, accuracy=accuracy)
+            img, info = res.image, res.info
+        sink(i0, j0, img)
+        if progress is not None:
+            progress(k + 1, len(tiles))
+    info = {k: v for k, v in info.items() if v is not None}
+    info.update({"tiles": len(tiles), "tile_nx": tiling.tile_nx, "tile_ny": tiling.tile_ny,
+                 "pulse_block": tiling.pulse_block})
+    return info

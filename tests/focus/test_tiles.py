@@ -1,0 +1,101 @@
+"""Image formation under a memory budget: the plan (tiles cover the grid once, each within the
+budget; refusals name the memory and the budget), tiled backprojection equal to the untiled image
+(-120 dB: pulse blocks read from a lazily opened file included), tiled FFBP within FFBP's accuracy
+of direct backprojection with no seam at the tile borders."""
+import numpy as np
+import pytest
+
+from salkit import focus, simulate
+from salkit.errors import ResourceError
+from salkit.focus import memory_estimate
+from salkit.focus.tiles import plan_tiling
+from salkit.io import open_dataset, write_dataset
+from salkit.params import parse_scenario
+
+from ..conftest import SPOT, merge
+
+
+def _db(err, ref):
+    return 10 * np.log10(max(np.sum(np.abs(err) ** 2), 1e-300) / np.sum(np.abs(ref) ** 2))
+
+
+@pytest.fixture(scope="module")
+def scene():
+    """60 points spread over a 256 x 192 grid: errors everywhere, not only at one target."""
+    rng = np.random.default_rng(3)
+    pts = [{"x": float(x), "y": float(y), "amplitude": 1.0, "phase": float(f)} for x, y, f in
+           zip(rng.uniform(-1.8, 1.8, 60), rng.uniform(-1.4, 1.4, 60), rng.uniform(-3, 3, 60))]
+    sc = parse_scenario(merge(SPOT, scene={"points": pts},
+                              processing={"grid": {"nx": 256, "ny": 192, "dx": 0.015, "dy": 0.015}}))
+    return sc, simulate(sc)
+
+
+@pytest.mark.parametrize("alg", ["bp", "ffbp"])
+def test_plan_covers_the_grid_once_within_the_budget(alg):
+    P, N, nx, ny = 2000, 1000, 4000, 3000  # the pixels dominate: the grid is what tiles shrink
+    whole = memory_estimate(P, N, nx, ny, alg)[0]
+    assert not plan_tiling(P, N, nx, ny, alg, whole).tiled
+    t = plan_tiling(P, N, nx, ny, alg, whole / 2)  # the assembled image (8 bytes a pixel) counted
+    assert t.tiled and 8.0 * nx * ny < t.need <= whole / 2
+    t = plan_tiling(P, N, nx, ny, alg, whole / 5, hold_image=False)  # tiles written out as they finish
+    assert t.tiled and t.need <= whole / 5
+    cover = np.zeros((nx, ny), int)
+    for i0, i1, j0, j1 in t.tiles:
+        cover[i0:i1, j0:j1] += 1
+    assert (cover == 1).all() and len(t.tiles) == t.n_tiles
+    if alg == "bp":  # pulses too, in blocks of whole kernel calls, covering every pulse once
+        t = plan_tiling(20 * P, 4 * N, 1000, 700, alg, memory_estimate(20 * P, 4 * N, 1000, 700, alg)[0] / 20)
+        assert t.pulse_block < 20 * P and t.pulse_block % 32 == 0
+        assert [a for a, _ in t.blocks][1:] == [b for _, b in t.blocks][:-1] and t.blocks[-1][1] == 20 * P
+    assert str(t.n_tiles) in t.describe() and "budget" in t.describe()
+
+
+def test_refusals_name_the_memory_and_the_budget():
+    with pytest.raises(ResourceError, match=r"pfa cannot run in tiles.*bp or ffbp"):
+        plan_tiling(4000, 3000, 1000, 700, "pfa", 2 ** 20)
+    with pytest.raises(ResourceError, match=r"one tile of 32 x 32 pixels.* needs about [0-9.]+ MiB of memory, more "
+                                            r"than the 1 MiB available"):
+        plan_tiling(4000, 3000, 1000, 700, "ffbp", 2 ** 20)
+
+
+def test_tiled_backprojection_equals_the_untiled_image(scene, tmp_path):
+    """bp in tiles and pulse blocks, from memory and from a lazily opened file read a block at a time."""
+    sc, raw = scene
+    whole = focus(raw, sc.processing, algorithm="bp")
+    ref = whole["image"].values
+    P, N = raw["signal"].shape
+    need = memory_estimate(P, N, 256, 192, "bp")[0]
+    held = raw["signal"].nbytes
+    t = focus(raw, sc.processing, algorithm="bp", memory_limit=held + need / 3)
+    assert t.attrs["tiles"] > 1 and "tiles" in t.attrs["tiling"]
+    assert _db(t["image"].values - ref, ref) < -120
+    path = write_dataset(raw, tmp_path / "raw.nc")
+    lazy = open_dataset(path, lazy=True)
+    assert not lazy["signal"].variable._in_memory
+    b = focus(lazy, sc.processing, algorithm="bp", memory_limit=need / 2.5)
+    assert b.attrs["pulse_block"] < P and b.attrs["tiles"] > 1
+    assert _db(b["image"].values - ref, ref) < -120
+    np.testing.assert_array_equal(b["collection_position"].values, whole["collection_position"].values)
+    assert b.attrs["resolution_azimuth"] == whole.attrs["resolution_azimuth"]
+
+
+def test_tiled_ffbp_has_no_seam(scene):
+    """Against direct backprojection at high accuracy: the tiled FFBP image is as accurate as the
+    whole one, and its error within 3 pixels of a tile border is no more than 1 dB above elsewhere."""
+    sc, raw = scene
+    ref = focus(raw, sc.processing, algorithm="bp", accuracy="high")["image"].values
+    whole = focus(raw, sc.processing, algorithm="ffbp")["image"].values
+    P, N = raw["signal"].shape
+    t = focus(raw, sc.processing, algorithm="ffbp",
+              memory_limit=raw["signal"].nbytes + 0.6 * memory_estimate(P, N, 256, 192, "ffbp")[0])
+    tiled = t["image"].values
+    assert t.attrs["tiles"] >= 4
+    assert _db(whole - ref, ref) < -50 and _db(tiled - ref, ref) < _db(whole - ref, ref) + 1.0
+    e = np.abs(tiled - ref) ** 2
+    border = np.zeros(e.shape, bool)
+    for i in range(t.attrs["tile_nx"], e.shape[0], t.attrs["tile_nx"]):
+        border[i - 3:i + 3, :] = True
+    for j in range(t.attrs["tile_ny"], e.shape[1], t.attrs["tile_ny"]):
+        border[:, j - 3:j + 3] = True
+    assert 0.05 < border.mean() < 0.5
+    assert 10 * np.log10(e[border].mean() / e[~border].mean()) < 1.0
