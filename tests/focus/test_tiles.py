@@ -99,3 +99,26 @@ def test_tiled_ffbp_has_no_seam(scene):
         border[:, j - 3:j + 3] = True
     assert 0.05 < border.mean() < 0.5
     assert 10 * np.log10(e[border].mean() / e[~border].mean()) < 1.0
+
+
+def test_image_written_tile_by_tile_into_a_chunked_file(scene, tmp_path):
+    """focus_to_file: the image goes tile by tile into a chunked NetCDF (the chunks are the
+    tiles), equal to the image formed in memory, attributes and collection geometry included,
+    opened lazily; a refusal leaves no file."""
+    from salkit.focus import focus_to_file
+    sc, raw = scene
+    ref = focus(raw, sc.processing, algorithm="bp")
+    P, N = raw["signal"].shape
+    lazy = open_dataset(write_dataset(raw, tmp_path / "raw.nc"), lazy=True)
+    img = focus_to_file(lazy, tmp_path / "image.nc", sc.processing, algorithm="bp",
+                        memory_limit=memory_estimate(P, N, 256, 192, "bp")[0] / 3)
+    assert not img["image"].variable._in_memory and img.attrs["tiles"] > 1
+    assert img["image"].encoding["chunksizes"] == (img.attrs["tile_nx"], img.attrs["tile_ny"])
+    assert _db(img["image"].values - ref["image"].values, ref["image"].values) < -120
+    for k in ("resolution_azimuth", "irw_range_theory", "algorithm", "salkit_kind", "support_range"):
+        assert img.attrs[k] == ref.attrs[k], k
+    np.testing.assert_array_equal(img["collection_position"].values, ref["collection_position"].values)
+    np.testing.assert_array_equal(img["azimuth"].values, ref["azimuth"].values)
+    with pytest.raises(ResourceError):
+        focus_to_file(lazy, tmp_path / "no.nc", sc.processing, algorithm="bp", memory_limit=2 ** 10)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["image.nc", "raw.nc"]

@@ -9,18 +9,19 @@ signature and one normalisation (:mod:`salkit.focus.formers`). The package is ca
 
 Modules: :mod:`~salkit.focus.pipeline` (``focus``, memory estimates, the image dataset),
 :mod:`~salkit.focus.rangecomp` (range compression), :mod:`~salkit.focus.phasehistory`,
-:mod:`~salkit.focus.formers` (the registry) and one module per former.
+:mod:`~salkit.focus.formers` (the registry) and one module per former, :mod:`~salkit.focus.tiles`
+(image formation in tiles and pulse blocks under a memory budget).
 """
 from .formers import FORMERS, ImageGrid, ImageResult, get_former, register_former
 from .phasehistory import PhaseHistory, default_grid, phase_history, theory_resolution
-from .pipeline import (HIGH_ACCURACY_UPSAMPLE, PROCESSORS, add_collection_geometry, focus, focus_sal, form_image, grid_of,
-                       memory_estimate, run_memory_estimate)
+from .pipeline import (HIGH_ACCURACY_UPSAMPLE, PROCESSORS, add_collection_geometry, focus, focus_sal, focus_to_file,
+                       form_image, grid_of, memory_budget, memory_estimate, run_memory_estimate)
 from .rangecomp import range_compress
 from .._callable import make_callable as _make_callable
 
 __all__ = ["FORMERS", "HIGH_ACCURACY_UPSAMPLE", "ImageGrid", "ImageResult", "PROCESSORS", "PhaseHistory",
-           "add_collection_geometry", "default_grid", "focus", "focus_sal", "form_image", "get_former", "grid_of",
-           "memory_estimate", "phase_history", "range_compress", "register_former", "run_memory_estimate",
+           "add_collection_geometry", "default_grid", "focus", "focus_sal", "focus_to_file", "form_image", "get_former", "grid_of",
+           "memory_budget", "memory_estimate", "phase_history", "range_compress", "register_former", "run_memory_estimate",
            "theory_resolution"]
 
 _make_callable(__name__, "focus")

@@ -17,7 +17,7 @@ import xarray as xr
 from ..choices import ACCURACY, PLANES, check_choice
 from ..errors import DataFileError, ResourceError, ScenarioError
 from ..geometry.collection import truth_positions
-from ..io.datasets import make_image_dataset
+from ..io.datasets import ImageFileWriter, lazy_reads, make_image_dataset, open_dataset
 from ..metrics.pointtarget import window_ipr
 from ..params.models import Grid, Processing, Scenario
 from ..params.scenario import stored_scenario
@@ -29,52 +29,12 @@ from . import bp, exact, ffbp, omegak, pfa  # noqa: F401  (each registers its fo
 from .downlooking import focus_downlooking_raw
 from .formers import ImageGrid, ImageResult, get_former
 from .phasehistory import PhaseHistory, default_grid, phase_history, theory_resolution
-from .tiles import DatasetPulses, InMemoryPulses, form_tiles, plan_tiling
+from .tiles import DatasetPulses, InMemoryPulses, form_tiles, memory_estimate, plan_tiling
 
 _log = logging.getLogger("salkit.focus")
 
 #: Range-profile upsampling of ``bp`` at ``accuracy = "high"`` (-78 dB against the exact matched filter).
 HIGH_ACCURACY_UPSAMPLE = 32
-
-
-def memory_estimate(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str = "bp",
-                    raw: bool = True, cover_pixels: int | None = None) -> tuple[float, str]:
-    """Peak memory of focusing, bytes, from the sizes.
-
-    The signal (complex64, pulses x samples) once, and from raw data the deskew's 2N-point FFT
-    buffers and the phase history (6 more); the image's float32 accumulators and complex64 output
-    (24 bytes a pixel); PFA adds its formed (cover) grid and K-space buffer, omega-k its
-    Stolt-interpolated spectrum, FFBP its two buffers of polar grids (each up to 3 times the
-    pixels, complex64: margins and padding) and its range profiles (about twice the signal).
-
-    Parameters
-    ----------
-    n_pulses, n_samples : int
-        Signal shape.
-    nx, ny : int
-        Output grid, pixels.
-    algorithm : {"bp", "pfa", "omegak", "ffbp"}
-    raw : bool
-        Dechirped fast-time data (deskewed here) rather than a phase history.
-    cover_pixels : int, optional
-        PFA's formed grid when larger than nx x ny.
-
-    Returns
-    -------
-    (float, str)
-        Bytes, and the sizes that drive it.
-    """
-    sig = 8.0 * n_pulses * n_samples
-    px = float(nx) * ny
-    need = sig * (7 if raw else 2) + 24.0 * px
-    if algorithm == "pfa":
-        need += 24.0 * max(cover_pixels or 0, px) + sig
-    elif algorithm == "omegak":
-        need += 4 * sig + 16.0 * px
-    elif algorithm == "ffbp":
-        need += 2 * 3.0 * 8.0 * px + 2 * sig
-    return need, (f"focusing {n_pulses} pulses x {n_samples} samples onto {nx} x {ny} pixels "
-                  f"({algorithm})")
 
 
 def run_memory_estimate(scenario: Scenario) -> tuple[float, str]:
@@ -164,7 +124,7 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=
 def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=None,
               algorithm: str | None = None, grid: Grid | None = None, window_name: str | None = None,
               plane: str | None = None, progress: Optional[Callable[[int, int], None]] = None,
-              accuracy: str | None = None, memory_limit: float | str | None = None) -> xr.Dataset:
+              accuracy: str | None = None, memory_limit: float | str | None = None, out=None) -> xr.Dataset:
     """The SAL processor of :func:`focus` (raw dechirped data and phase histories): range
     compression, then the registered former :func:`get_former` names. Parameters as :func:`focus`.
 
@@ -176,6 +136,8 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
     ----------
     raw, processing, scenario, algorithm, grid, window_name, plane, progress, accuracy, memory_limit
         As :func:`focus`.
+    out : path, optional
+        Write the image tile by tile into this file (:func:`focus_to_file`) and return it opened lazily.
     """
     if scenario is None:
         scenario = stored_scenario(raw.attrs)
@@ -191,12 +153,13 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
     stripmap = str(raw.attrs.get("mode", "spotlight")) == "stripmap" and float(raw.attrs.get("real_aperture", 0)) > 0
     held = float(raw["signal"].nbytes) if getattr(raw["signal"].variable, "_in_memory", True) else 0.0  # lazily opened: not held
     tiling = plan_tiling(P, N, g0.nx if g0 else 256, g0.ny if g0 else 256, alg, memory_budget(memory_limit, held),
-                         raw=raw.attrs.get("salkit_kind") == "raw", stripmap=stripmap)
+                         raw=raw.attrs.get("salkit_kind") == "raw", stripmap=stripmap, hold_image=out is None)
     if tiling.pulse_block < P:  # the signal is read and range-compressed a block at a time
         pulses = DatasetPulses(raw, chirp)
         ph = pulses.geometry()
     else:
-        ph = phase_history(raw, chirp)
+        with lazy_reads("signal"):
+            ph = phase_history(raw, chirp)
         if not held and not np.isfinite(ph.data).all():  # a lazily opened file is checked as it is read
             raise DataFileError("variable 'signal' has non-finite values")
         pulses = InMemoryPulses(ph)
@@ -211,20 +174,43 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
         raise ScenarioError("processing.grid", f"dx={g.dx:g}, dy={g.dy:g}",
                             f"spacing must not exceed the resolution (azimuth {res['azimuth']:.4g} m, "
                             f"range {res['range']:.4g} m)")
-    if tiling.tiled and (g.nx, g.ny) != (tiling.nx, tiling.ny):
-        tiling = plan_tiling(P, N, g.nx, g.ny, alg, tiling.budget, raw=raw.attrs.get("salkit_kind") == "raw",
-                             stripmap=stripmap)
+    kind_raw = raw.attrs.get("salkit_kind") == "raw"
+    if out is not None or (tiling.tiled and (g.nx, g.ny) != (tiling.nx, tiling.ny)):
+        tiling = plan_tiling(P, N, g.nx, g.ny, alg, tiling.budget, raw=kind_raw, stripmap=stripmap,
+                             hold_image=out is None)
     if tiling.tiled:
         _log.info("focusing %s", tiling.describe())
         if hasattr(progress, "renamed"):  # a stage of a run's progress: its unit is now the tile
             progress = progress.renamed("tiles formed")
+    ig = ImageGrid.of(ph, g)
+    win = Window(window_name or p.window, p.taylor_nbar, p.taylor_sll)
+    attrs = _image_attrs(ph, raw, scenario, g, alg, win, res)
+    truth = None
+    if scenario is not None and scenario.scene.points:
+        truth = truth_positions(scenario.model_copy(update={"processing": scenario.processing.model_copy(
+            update={"grid": g})}))
+    if out is not None:  # tile by tile into a chunked file, never whole in memory
+        blank = np.broadcast_to(np.complex64(0), ig.shape)
+        skel = add_collection_geometry(make_image_dataset(blank, ig.azimuth, ig.range, ig.plane, attrs, truth),
+                                       raw, ph).drop_vars("image")
+        with ImageFileWriter(out, skel, (tiling.tile_nx, tiling.tile_ny)) as w:
+            result, _, _, used = form_image(ph, p, g, algorithm=alg, window_name=window_name, accuracy=accuracy,
+                                            progress=progress, tiling=tiling, pulses=pulses, sink=w.write)
+            w.close(_result_attrs(result.info, used, tiling))
+        return open_dataset(out, lazy=True)
     result, ig, win, used = form_image(ph, p, g, algorithm=alg, window_name=window_name, accuracy=accuracy,
                                        progress=progress, tiling=tiling, pulses=pulses)
-    acc, upsample = used["accuracy"], used["range_upsample"]
+    attrs.update(_result_attrs(result.info, used, tiling))
+    image = make_image_dataset(result.image, ig.azimuth, ig.range, ig.plane, attrs, truth)
+    return add_collection_geometry(image, raw, ph)
+
+
+def _image_attrs(ph: PhaseHistory, raw: xr.Dataset, scenario, g: Grid, alg: str, win: Window, res: dict) -> dict:
+    """An image's attributes known before it is formed: the processing, the theory, the collection."""
     M = ph.freq.size
     wi = window_ipr(win.name, win.nbar, win.sll)
     attrs = {
-        "algorithm": alg, "accuracy": acc, "range_upsample": upsample, "window": win.name, "plane": g.plane,
+        "algorithm": alg, "window": win.name, "plane": g.plane,
         "wavelength": ph.wavelength, "carrier_frequency": float(ph.freq[M // 2]),
         "bandwidth": res["bandwidth"], "mode": ph.mode,
         "resolution_range": res["range"], "resolution_azimuth": res["azimuth"],
@@ -236,29 +222,62 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
         "phase_reference": "track" if (alg == "omegak" or ph.mode == "stripmap") else "aperture_centre",
         "aperture_center": ph.center_position,
     }
-    attrs.update({k: v for k, v in result.info.items() if k.startswith(("support_", "cover_", "illuminated_", "ffbp_", "pfa_"))})
-    if tiling.tiled:
-        attrs.update(tiling=tiling.describe(), tiles=tiling.n_tiles, tile_nx=tiling.tile_nx, tile_ny=tiling.tile_ny,
-                     pulse_block=tiling.pulse_block)
     for k in ("frequency_fit_residual_steps", "frequency_fit_residual", "phase_sign_converted"):
         if k in ph.attrs:
             attrs[k] = ph.attrs[k]
     if "scenario" in raw.attrs:
         attrs["scenario"] = raw.attrs["scenario"]
-    truth = None
-    if scenario is not None and scenario.scene.points:
-        truth = truth_positions(scenario.model_copy(update={"processing": scenario.processing.model_copy(
-            update={"grid": g})}))
     attrs["frequency_min"], attrs["frequency_max"] = float(ph.freq[0]), float(ph.freq[-1])
     if "origin_llh" in ph.attrs:
         attrs["origin_llh"] = np.asarray(ph.attrs["origin_llh"], np.float64)
-    out = make_image_dataset(result.image, ig.azimuth, ig.range, ig.plane, attrs, truth)
-    return add_collection_geometry(out, raw, ph)
+    return attrs
+
+
+def _result_attrs(info: dict, used: dict, tiling) -> dict:
+    """An image's attributes from its forming: accuracy, support, and how it was cut."""
+    attrs = {"accuracy": used["accuracy"], "range_upsample": used["range_upsample"]}
+    attrs.update({k: v for k, v in info.items() if k.startswith(("support_", "cover_", "illuminated_", "ffbp_", "pfa_"))})
+    if tiling.tiled:
+        attrs.update(tiling=tiling.describe(), tiles=tiling.n_tiles, tile_nx=tiling.tile_nx, tile_ny=tiling.tile_ny,
+                     pulse_block=tiling.pulse_block)
+    return attrs
+
+
+def focus_to_file(raw: xr.Dataset, path, processing: Optional[Processing] = None, **options) -> xr.Dataset:
+    """Form an image straight into a chunked NetCDF file, tile by tile, never whole in memory: for
+    images larger than the memory budget (:class:`salkit.io.ImageFileWriter`; the file is complete
+    under ``path`` or absent).
+
+    Parameters
+    ----------
+    raw : xarray.Dataset
+        As :func:`focus` (opened lazily from a file, :func:`salkit.io.open_dataset` ``lazy=True``,
+        for a history larger than memory: spotlight ``bp`` then reads it in pulse blocks).
+    path : path
+        The image file to write.
+    processing : Processing, optional
+    **options
+        ``scenario``, ``algorithm``, ``grid``, ``window_name``, ``plane``, ``progress``,
+        ``accuracy``, ``memory_limit`` as :func:`focus`.
+
+    Returns
+    -------
+    xarray.Dataset
+        The written image, opened lazily.
+
+    Raises
+    ------
+    ResourceError, ScenarioError, DataFileError
+        As :func:`focus`; nothing is written.
+    """
+    if str(raw.attrs.get("salkit_kind", "raw")) not in ("raw", "phase_history"):
+        raise ScenarioError("raw", raw.attrs.get("salkit_kind"), "focus_to_file forms SAL raw data or phase histories")
+    return focus_sal(raw, processing, out=path, **options)
 
 
 def form_image(ph: PhaseHistory, processing: Processing, grid: Grid, *, algorithm: str | None = None,
                window_name: str | None = None, accuracy: str | None = None,
-               progress: Optional[Callable[[int, int], None]] = None, tiling=None, pulses=None):
+               progress: Optional[Callable[[int, int], None]] = None, tiling=None, pulses=None, sink=None):
     """Form the image of a phase history with a scenario's processing settings: the former, window
     and accuracy they name (each overridable), on ``grid``. The one place these settings become a
     former call (:func:`focus_sal`, and the sub-images of :mod:`salkit.stack`, which need no dataset).
@@ -277,6 +296,9 @@ def form_image(ph: PhaseHistory, processing: Processing, grid: Grid, *, algorith
         Form the image in the tiles (and pulse blocks) it names (:func:`salkit.focus.tiles.plan_tiling`).
     pulses : InMemoryPulses or DatasetPulses, optional
         Where the pulse blocks come from when tiled (default: ``ph``).
+    sink : callable, optional
+        ``sink(i0, j0, tile)`` receives the tiles instead of an image in memory (the result's
+        ``image`` is then None).
 
     Returns
     -------
@@ -291,14 +313,14 @@ def form_image(ph: PhaseHistory, processing: Processing, grid: Grid, *, algorith
                 else max(processing.range_upsample, HIGH_ACCURACY_UPSAMPLE))
     win = Window(window_name or processing.window, processing.taylor_nbar, processing.taylor_sll)
     ig = ImageGrid.of(ph, grid)
-    if tiling is not None and tiling.tiled:
-        img = np.empty(ig.shape, np.complex64)
+    if sink is not None or (tiling is not None and tiling.tiled):
+        img = None if sink is not None else np.empty(ig.shape, np.complex64)
 
-        def sink(i0, j0, tile):
+        def keep(i0, j0, tile):
             img[i0:i0 + tile.shape[0], j0:j0 + tile.shape[1]] = tile
 
         info = form_tiles(pulses or InMemoryPulses(ph), ig, win, tiling, upsample=upsample, accuracy=acc,
-                          sink=sink, progress=progress)
+                          sink=sink or keep, progress=progress)
         result = ImageResult(img, info)
     else:
         result = get_former(alg)(ph, ig, win, upsample=upsample, accuracy=acc, progress=progress)

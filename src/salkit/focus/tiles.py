@@ -2,7 +2,7 @@
 of spotlight data, the pulses in blocks, each sized to fit.
 
 :func:`plan_tiling` turns the sizes of a job and a budget (bytes) into a :class:`Tiling`: the whole
-image at once when the estimate (:func:`salkit.focus.pipeline.memory_estimate`) fits, else tiles
+image at once when the estimate (:func:`memory_estimate`) fits, else tiles
 (and pulse blocks) halved until one tile fits; a :class:`~salkit.errors.ResourceError` naming the
 memory one tile needs and the budget when even the smallest tile does not. :func:`form_tiles` forms
 the tiles one after another from a pulse source (:class:`InMemoryPulses`, or
@@ -23,6 +23,7 @@ from typing import Callable, Optional
 import numpy as np
 
 from ..errors import DataFileError, ResourceError, ScenarioError
+from ..io.datasets import lazy_reads
 from ..resources import size_text as gib
 from ..signals.windows import Window
 from .backprojection import backproject
@@ -37,6 +38,46 @@ MIN_TILE = 32
 MIN_BLOCK = 64
 #: Pulses per kernel call of :func:`salkit.focus.backprojection.backproject` (blocks are multiples).
 KERNEL_BLOCK = 32
+
+
+def memory_estimate(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str = "bp",
+                    raw: bool = True, cover_pixels: int | None = None) -> tuple[float, str]:
+    """Peak memory of focusing, bytes, from the sizes.
+
+    The signal (complex64, pulses x samples) once, and from raw data the deskew's 2N-point FFT
+    buffers and the phase history (6 more); the image's float32 accumulators and complex64 output
+    (24 bytes a pixel); PFA adds its formed (cover) grid and K-space buffer, omega-k its
+    Stolt-interpolated spectrum, FFBP its two buffers of polar grids (each up to 3 times the
+    pixels, complex64: margins and padding) and its range profiles (about twice the signal).
+
+    Parameters
+    ----------
+    n_pulses, n_samples : int
+        Signal shape.
+    nx, ny : int
+        Output grid, pixels.
+    algorithm : {"bp", "pfa", "omegak", "ffbp"}
+    raw : bool
+        Dechirped fast-time data (deskewed here) rather than a phase history.
+    cover_pixels : int, optional
+        PFA's formed grid when larger than nx x ny.
+
+    Returns
+    -------
+    (float, str)
+        Bytes, and the sizes that drive it.
+    """
+    sig = 8.0 * n_pulses * n_samples
+    px = float(nx) * ny
+    need = sig * (7 if raw else 2) + 24.0 * px
+    if algorithm == "pfa":
+        need += 24.0 * max(cover_pixels or 0, px) + sig
+    elif algorithm == "omegak":
+        need += 4 * sig + 16.0 * px
+    elif algorithm == "ffbp":
+        need += 2 * 3.0 * 8.0 * px + 2 * sig
+    return need, (f"focusing {n_pulses} pulses x {n_samples} samples onto {nx} x {ny} pixels "
+                  f"({algorithm})")
 
 
 @dataclass(frozen=True)
@@ -135,8 +176,6 @@ def plan_tiling(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str,
         When the job does not fit and cannot be cut (not a tileable former), or when one tile of
         the smallest size does not fit: the message names the memory and the budget.
     """
-    from .pipeline import memory_estimate  # the one estimate of a former's memory
-
     def need(tx, ty, pb):
         est = memory_estimate(pb, n_samples, tx, ty, algorithm, raw=raw)[0]
         cut = (tx, ty, pb) != (nx, ny, n_pulses)
@@ -212,7 +251,8 @@ class DatasetPulses:
     def __init__(self, raw, chirp_correction: str = "none"):
         self.raw, self.chirp = raw, chirp_correction
         P = raw.sizes["slow_time"]
-        probe = phase_history(raw.isel(slow_time=[0, P // 2, P - 1]), chirp_correction)  # first, centre, last
+        with lazy_reads("signal"):
+            probe = phase_history(raw.isel(slow_time=[0, P // 2, P - 1]), chirp_correction)  # first, centre, last
         self.track, self.center_position = probe.track, probe.center_position
         self.probe = probe
 
@@ -223,14 +263,16 @@ class DatasetPulses:
 
     def block(self, a: int, b: int) -> PhaseHistory:
         """Pulses ``a`` to ``b``, read and range-compressed now."""
-        ph = phase_history(self.raw.isel(slow_time=slice(a, b)), self.chirp)
+        with lazy_reads("signal"):
+            ph = phase_history(self.raw.isel(slow_time=slice(a, b)), self.chirp)
         if not np.isfinite(ph.data).all():
             raise DataFileError(f"variable 'signal': non-finite values in pulses {a} to {b - 1}")
         return dataclasses.replace(ph, track=self.track, center_position=self.center_position)
 
     def whole(self) -> PhaseHistory:
         """Every pulse at once."""
-        return phase_history(self.raw, self.chirp)
+        with lazy_reads("signal"):
+            return phase_history(self.raw, self.chirp)
 
     def geometry(self, block: int = 4096) -> PhaseHistory:
         """The collection without its signal (``data`` of zero samples): every pulse's position and

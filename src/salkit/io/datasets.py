@@ -14,6 +14,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
+import lazy_loader as _lazy
 import numpy as np
 import xarray as xr
 
@@ -24,6 +25,8 @@ from ..errors import EnvironmentProblem
 import io
 import errno as _errno
 from .ingest import normalise_phase_history
+
+_h5netcdf = _lazy.load("h5netcdf", suppress_warning=True)
 
 FORMAT_VERSION = "1.0"
 
@@ -188,6 +191,105 @@ def make_image_dataset(image: np.ndarray, az: np.ndarray, rg: np.ndarray, plane,
                 "range": ("range", np.asarray(rg, np.float64), {"units": "m"})},
         attrs=clean_attrs(a),
     )
+
+
+@contextmanager
+def lazy_reads(name: str = "signal"):
+    """Reads of a lazily opened file (:func:`open_dataset` ``lazy=True``) inside the block: a chunk
+    that fails its checksum or cannot be decoded raises :class:`DataFileError` naming the variable,
+    as an eager open would.
+
+    Parameters
+    ----------
+    name : str
+        The variable being read.
+    """
+    try:
+        yield
+    except OSError as e:  # h5py reports a failed filter (fletcher32) or a bad read as OSError
+        raise DataFileError(f"variable '{name}' fails its checksum (fletcher32) or cannot be decoded: the file is "
+                            f"corrupted ({e})") from None
+
+
+class ImageFileWriter:
+    """An image written tile by tile into a chunked NetCDF4/HDF5 file, never whole in memory.
+
+    The dataset's other variables, coordinates and attributes (``template``, without ``image``)
+    are written first to a temporary name beside ``path``; ``image`` (azimuth, range) complex64 is
+    created with chunks of one tile and a fletcher32 checksum, filled by :meth:`write`, and the file
+    renamed onto ``path`` by :meth:`close`; :meth:`discard` (or leaving a ``with`` block by an
+    exception) removes it, so nothing half-written is left. The result reads like any salkit image
+    (:func:`open_dataset`, lazily with ``lazy=True``).
+
+    Parameters
+    ----------
+    path : path
+    template : xarray.Dataset
+        The image dataset without ``image``: coordinates ``azimuth`` and ``range`` (their sizes
+        are the image's), the other variables and the attributes.
+    chunks : (int, int)
+        Chunk shape, pixels (a tile).
+    image_attrs : dict, optional
+        Attributes of the ``image`` variable.
+    """
+
+    def __init__(self, path, template: xr.Dataset, chunks, image_attrs: dict | None = None):
+        self.path = Path(path)
+        self.tmp = self.path.with_name(f".{self.path.name}.tmp-{os.getpid()}")
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                template.to_netcdf(self.tmp, engine="h5netcdf", invalid_netcdf=True,
+                                   encoding=_checksum_encoding(template))
+            self.file = _h5netcdf.File(self.tmp, "a", invalid_netcdf=True)
+            shape = (template.sizes["azimuth"], template.sizes["range"])
+            ch = (max(1, min(int(chunks[0]), shape[0])), max(1, min(int(chunks[1]), shape[1])))
+            self.var = self.file.create_variable("image", ("azimuth", "range"), dtype=np.complex64, chunks=ch,
+                                                 fletcher32=True)
+            for k, v in (image_attrs or {"long_name": "focused complex image", "units": "1"}).items():
+                self.var.attrs[k] = v
+        except OSError as e:
+            self.discard()
+            raise EnvironmentProblem(f"cannot write {self.path}: {_os_reason(e)}") from None
+
+    def write(self, i0: int, j0: int, tile: np.ndarray) -> None:
+        """Store a tile at pixel offsets (``i0``, ``j0``)."""
+        self.var[i0:i0 + tile.shape[0], j0:j0 + tile.shape[1]] = np.asarray(tile, np.complex64)
+
+    def close(self, attrs: dict | None = None) -> Path:
+        """Add ``attrs`` to the file's attributes, close it and rename it onto ``path``."""
+        try:
+            for k, v in clean_attrs(attrs or {}).items():
+                self.file.attrs[k] = v
+            self.file.close()
+            self.file = None
+            os.chmod(self.tmp, 0o644)
+            os.replace(self.tmp, self.path)
+        except OSError as e:
+            self.discard()
+            raise EnvironmentProblem(f"cannot write {self.path}: {_os_reason(e)}") from None
+        return self.path
+
+    def discard(self) -> None:
+        """Close and remove the temporary file."""
+        f = getattr(self, "file", None)
+        if f is not None:
+            try:
+                f.close()
+            except Exception:  # noqa: BLE001 - already broken: only removal matters
+                pass
+            self.file = None
+        try:
+            os.unlink(self.tmp)
+        except OSError:
+            pass
+
+    def __enter__(self) -> "ImageFileWriter":
+        return self
+
+    def __exit__(self, kind, value, tb) -> None:
+        if kind is not None:
+            self.discard()
 
 
 @contextmanager
@@ -370,8 +472,8 @@ def open_dataset(path: str | Path, lazy: bool = False) -> xr.Dataset:
     p = input_file(path)
     try:
         if lazy:
-            ds = xr.open_dataset(p, engine="h5netcdf")
-            small = [n for n, v in ds.data_vars.items() if n != "signal" and v.nbytes <= 64 * 2 ** 20]
+            ds = xr.open_dataset(p, engine="h5netcdf", cache=False)  # what is read is not kept
+            small = [n for n, v in ds.data_vars.items() if n not in ("signal", "image") and v.nbytes <= 64 * 2 ** 20]
             return ds.assign({n: ds[n].load() for n in small})
         with xr.open_dataset(p, engine="h5netcdf") as ds:
             ds = ds.load()
@@ -489,13 +591,23 @@ def describe(path: str | Path) -> dict:
     Returns
     -------
     dict
+
+    Notes
+    -----
+    The file is opened lazily: no array larger than 64 MiB is read (an image bigger than memory
+    is described without loading it).
     """
-    ds = open_dataset(path)
-    info = {"file": str(path), "kind": ds.attrs.get("salkit_kind", "unknown"),
-            "variables": {k: {"dims": list(v.dims), "dtype": str(v.dtype), "shape": list(v.shape)}
-                          for k, v in ds.data_vars.items()}}
-    for k, v in ds.attrs.items():
-        if k == "scenario":
-            continue
-        info[k] = v.tolist() if isinstance(v, np.ndarray) else v
+    ds = open_dataset(path, lazy=True)
+    try:
+        info = {"file": str(path), "kind": ds.attrs.get("salkit_kind", "unknown"),
+                "variables": {k: {"dims": list(v.dims), "dtype": str(v.dtype), "shape": list(v.shape)}
+                              for k, v in ds.data_vars.items()}}
+        for k, v in ds.attrs.items():
+            if k == "scenario":
+                continue
+            info[k] = v.tolist() if isinstance(v, np.ndarray) else v
+        if "image" in ds and "chunksizes" in ds["image"].encoding:
+            info["image_chunks"] = list(ds["image"].encoding["chunksizes"])
+    finally:
+        ds.close()
     return info

@@ -1,0 +1,81 @@
+"""tiles: image formation under a memory budget (issue 25): an 8192^2 FFBP image formed tile by
+tile into a chunked file under a 512 MiB budget, each job in a fresh process whose peak resident
+memory (``ru_maxrss``, the whole process) is reported beside its baseline (the interpreter and
+libraries with the file open) and after the kernels are loaded on 64 pulses; the history is
+simulated and written by another process first.
+
+``make bench NAME=tiles`` (or ``python benchmarks/tiles.py``) runs it alone.
+"""
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+SIMULATE = r'''
+import sys
+sys.path.insert(0, {bench!r})
+from common import spotlight_problem
+from salkit.io import write_dataset
+from salkit.simulate import simulate
+sc, _ = spotlight_problem(2048, {pulses})  # the ADC sized for a 2048-pixel swath: about 1.8 k samples a pulse
+write_dataset(simulate(sc), {folder!r} + "/raw.nc")
+'''
+
+JOB = r'''
+import json, resource, sys, time
+import numpy as np
+sys.path.insert(0, {bench!r})
+from common import spotlight_problem
+from salkit.focus import focus_to_file
+from salkit.io import open_dataset
+from salkit.params import Grid
+n_pix, pulses, limit, alg, folder = {n_pix}, {pulses}, {limit!r}, {alg!r}, {folder!r}
+lazy = open_dataset(folder + "/raw.nc", lazy=True)
+from salkit.params import stored_scenario
+sc = stored_scenario(lazy.attrs)
+g = Grid(nx=n_pix, ny=n_pix, dx=0.015, dy=0.015)
+base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024  # interpreter, libraries, the file open
+small = focus_to_file(lazy.isel(slow_time=slice(0, 64)), folder + "/warm.nc", sc.processing, algorithm=alg,
+                      grid=Grid(nx=64, ny=64, dx=0.015, dy=0.015))  # kernels loaded (64 pulses: a few MiB)
+small.close()
+warm = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+t0 = time.perf_counter()
+img = focus_to_file(lazy, folder + "/image.nc", sc.processing, algorithm=alg, grid=g, memory_limit=limit)
+dt = time.perf_counter() - t0
+peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+print(json.dumps({{"seconds": dt, "peak_rss": peak, "baseline_rss": base, "warm_rss": warm, "tiles": int(img.attrs.get("tiles", 1)),
+                  "tile": [int(img.attrs.get("tile_nx", n_pix)), int(img.attrs.get("tile_ny", n_pix))],
+                  "signal_shape": list(lazy["signal"].shape), "image_bytes": 8 * n_pix * n_pix}}))
+'''
+
+
+def run_job(n_pix: int, pulses: int, limit: str, alg: str) -> dict:
+    """One job in a fresh Python process; its figures."""
+    with tempfile.TemporaryDirectory(prefix="salkit-bench-tiles-") as d:
+        fill = dict(bench=str(Path(__file__).parent), n_pix=n_pix, pulses=pulses, limit=limit, alg=alg, folder=d)
+        subprocess.run([sys.executable, "-c", SIMULATE.format(**fill)], capture_output=True, text=True, check=True)
+        r = subprocess.run([sys.executable, "-c", JOB.format(**fill)], capture_output=True, text=True, check=True)
+        return json.loads(r.stdout.strip().splitlines()[-1])
+
+
+def bench_tiles(jobs=((8192, 2048, "512MiB", "ffbp"),)):
+    """Each job: pixels a side, pulses, budget, former; time, peak and baseline resident memory."""
+    out = {}
+    for n, p, limit, alg in jobs:
+        m = run_job(n, p, limit, alg)
+        key = f"tiles_{alg}_{n}_{p}p_{limit}"
+        out.update({f"{key}_s": m["seconds"], f"{key}_peak_rss_mib": m["peak_rss"] / 2 ** 20,
+                    f"{key}_baseline_rss_mib": m["baseline_rss"] / 2 ** 20,
+                    f"{key}_kernels_loaded_rss_mib": m["warm_rss"] / 2 ** 20,
+                    f"{key}_job_rss_mib": (m["peak_rss"] - m["baseline_rss"]) / 2 ** 20,
+                    f"{key}_tiles": m["tiles"], f"{key}_image_mib": m["image_bytes"] / 2 ** 20,
+                    f"{key}_signal": "x".join(map(str, m["signal_shape"]))})
+    return out
+
+
+if __name__ == "__main__":
+    import runner
+    runner.main(["tiles"])
