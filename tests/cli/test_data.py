@@ -25,8 +25,8 @@ def test_bad_files_exit_2(tmp_path, scen):
 
 def test_focus_under_a_memory_limit_runs_in_tiles(tmp_path, scen):
     """--memory-limit: the job too big for it runs in tiles and pulse blocks read from the file (a
-    note says how), the image equal to the untiled one; a limit one tile cannot fit: exit 2, the
-    memory and the budget named, no folder."""
+    note says how), the image equal to the untiled one, also with the tiles on 2 Dask workers; a
+    limit one tile cannot fit: exit 2, the memory and the budget named, no folder."""
     import numpy as np
     from salkit.io import open_dataset
     raw = tmp_path / "raw.nc"
@@ -44,3 +44,13 @@ def test_focus_under_a_memory_limit_runs_in_tiles(tmp_path, scen):
     assert not (tmp_path / "no").exists() and "Traceback" not in r.stderr
     r = salkit("focus", raw, "--out", tmp_path / "no", "--memory-limit", "lots")
     assert r.returncode == 2 and "--memory-limit" in r.stderr
+    # the tiles on a local Dask cluster: each worker reads its pulse blocks from the file; the same image
+    r = salkit("focus", raw, "--out", tmp_path / "dask", "--algorithm", "bp", "--memory-limit", "2MiB",
+               "--workers", "2")
+    assert r.returncode == 0, r.stderr
+    c = open_dataset(tmp_path / "dask" / "image.nc")
+    assert c.attrs["tiles"] >= 4 and c.attrs["pulse_block"] < a.sizes["pulse"]
+    np.testing.assert_array_equal(a["image"].values, c["image"].values)
+    for args, needle in ((["--workers", "0"], "--workers"), (["--scheduler", "foo"], "tcp://HOST:PORT")):
+        r = salkit("focus", raw, "--out", tmp_path / "no", *args)
+        assert r.returncode == 2 and needle in r.stderr and not (tmp_path / "no").exists()

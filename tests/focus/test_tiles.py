@@ -122,3 +122,51 @@ def test_image_written_tile_by_tile_into_a_chunked_file(scene, tmp_path):
     with pytest.raises(ResourceError):
         focus_to_file(lazy, tmp_path / "no.nc", sc.processing, algorithm="bp", memory_limit=2 ** 10)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["image.nc", "raw.nc"]
+
+
+try:
+    from distributed import WorkerPlugin as _WorkerPlugin
+except ImportError:  # pragma: no cover - dask is a dependency
+    _WorkerPlugin = object
+
+
+class DieOnFirstTile(_WorkerPlugin):
+    """Dask worker plugin: the first worker to start a tile task dies (a marker file says it did)."""
+
+    def __init__(self, marker):
+        self.marker = str(marker)
+
+    def setup(self, worker):
+        self.worker = worker
+
+    def transition(self, key, start, finish, **kwargs):
+        import os
+        from pathlib import Path
+        if finish == "executing" and "_tile_task" in str(key) and not Path(self.marker).exists():
+            Path(self.marker).write_text("died")
+            os._exit(1)
+
+
+def test_tiles_on_dask_equal_the_tiles_here_even_when_a_worker_dies(scene, tmp_path):
+    """Two Dask workers: bp with each worker reading its pulse blocks from the file itself, ffbp from a
+    phase history scattered to them; the images equal the ones formed in this process, though the
+    first worker to start a tile is killed (Dask runs that tile again elsewhere)."""
+    dd = pytest.importorskip("dask.distributed")
+    sc, raw = scene
+    P, N = raw["signal"].shape
+    lazy = open_dataset(write_dataset(raw, tmp_path / "raw.nc"), lazy=True)
+    limit = memory_estimate(P, N, 256, 192, "bp")[0] / 2.5
+    here_bp = focus(lazy, sc.processing, algorithm="bp", memory_limit=limit)
+    here_ffbp = focus(raw, sc.processing, algorithm="ffbp")
+    marker = tmp_path / "died"
+    with dd.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cl, \
+            dd.Client(cl) as client:
+        client.register_plugin(DieOnFirstTile(marker))
+        # two tiles in work at once on this machine's budget (a local cluster): twice the limit
+        there_bp = focus(lazy, sc.processing, algorithm="bp", memory_limit=2 * limit, client=client)
+        there_ffbp = focus(raw, sc.processing, algorithm="ffbp", client=client)
+    assert marker.read_text() == "died"
+    assert there_bp.attrs["pulse_block"] < P and there_bp.attrs["tiles"] >= 4 and there_ffbp.attrs["tiles"] >= 4
+    np.testing.assert_array_equal(there_bp["image"].values, here_bp["image"].values)
+    ref = here_ffbp["image"].values  # one image here; on Dask tiles (its own accuracy, no seam: above)
+    assert _db(there_ffbp["image"].values - ref, ref) < -50

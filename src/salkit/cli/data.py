@@ -2,6 +2,7 @@
 ``salkit export`` (an image as SICD) and ``salkit convert`` (phase histories between formats)."""
 from __future__ import annotations
 
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Optional
 
@@ -26,9 +27,13 @@ def focus(raw: Path = typer.Argument(..., metavar="RAW", help="raw or phase-hist
           kernel: Optional[str] = typer.Option(None, metavar="NAME", help="PGA phase-gradient kernel: pd | lumv | ev"),
           sicd: bool = typer.Option(False, "--sicd", help="also write the image as SICD (image.nitf), checked by sarkit"),
           memory_limit: Optional[str] = typer.Option(None, "--memory-limit", metavar="SIZE", help="memory budget, e.g. 512MiB or 4GiB (default: what is available): a bigger job runs in tiles of the image (bp, ffbp) and, for bp, blocks of pulses read from the .nc as needed"),
+          workers: Optional[int] = typer.Option(None, metavar="N", help="form the image's tiles on a local Dask cluster of N worker processes (bp, ffbp; at least two tiles a worker)"),
+          scheduler: Optional[str] = typer.Option(None, metavar="ADDRESS", help="form the tiles on an existing Dask cluster, e.g. tcp://host:8786 (each worker reads the .nc itself: a path they can all reach)"),
           overwrite: bool = typer.Option(False, "--overwrite", help="replace a non-empty --out once the new run is complete")):
     """Focus a raw file (.nc, .cphd or GOTCHA .mat) into image.nc, metrics.json, figures and report.html."""
     from ..choices import ACCURACY, ALGORITHMS, AUTOFOCUS_METHODS, PGA_KERNELS, PLANES, WINDOWS, check_choice
+    from ..errors import ScenarioError
+    from ..params.models import StackSettings
     from ..report import write_run
     from ..systems.airborne import focus_file
     for opt, v, allowed in (("--algorithm", algorithm, ALGORITHMS), ("--accuracy", accuracy, ACCURACY),
@@ -60,15 +65,33 @@ def focus(raw: Path = typer.Argument(..., metavar="RAW", help="raw or phase-hist
         src = "the scenario stored in the file" if "scenario" in ds.attrs else "the default (256 x 256 at 0.8 of the resolution)"
         out.print(f"--plane {plane} without --nx/--ny/--dx/--dy: grid size and spacing from {src}, "
                   f"in the {plane} plane", highlight=False)
+    if workers is not None and workers < 1:
+        raise ScenarioError("--workers", workers, "must be >= 1")
+    if scheduler is not None:  # the address's form, checked before any work (the stack's rule)
+        try:
+            StackSettings(scheduler=scheduler)
+        except ValueError as e:
+            raise ScenarioError("--scheduler", scheduler, "must look like tcp://HOST:PORT (or HOST:PORT)") from e
     RunFolder(out_dir, overwrite=overwrite)._check_target()  # before any work
     with RunFolder(out_dir, overwrite=overwrite) as tmp:
-        with _Bar() as bar:
-            m = write_run(focus_file(ds, algorithm=algorithm, window_name=window, grid=grid, progress=bar,
-                                     autofocus=autofocus, kernel=kernel, plane=plane, accuracy=accuracy), tmp,
-                          command=_command_line())
+        with _dask_or_not(workers, scheduler) as client, _Bar() as bar:
+            result = focus_file(ds, algorithm=algorithm, window_name=window, grid=grid, progress=bar,
+                                autofocus=autofocus, kernel=kernel, plane=plane, accuracy=accuracy, client=client)
+        m = write_run(result, tmp, command=_command_line())  # written without the cluster (its file locks)
         if sicd:
             _export_sicd(tmp / "image.nc", tmp / "image.nitf", None)
     _summary(m, out_dir)
+
+
+@contextmanager
+def _dask_or_not(workers: Optional[int], scheduler: Optional[str]):
+    """A Dask client when ``--workers`` or ``--scheduler`` asks for one, else None."""
+    if workers is None and scheduler is None:
+        yield None
+        return
+    from ..resources import dask_client
+    with dask_client(scheduler, workers) as client:
+        yield client
 
 
 @_guard

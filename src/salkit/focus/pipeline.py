@@ -60,7 +60,7 @@ def run_memory_estimate(scenario: Scenario) -> tuple[float, str]:
 def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=None, algorithm: str | None = None,
           grid: Grid | None = None, window_name: str | None = None, plane: str | None = None,
           progress: Optional[Callable[[int, int], None]] = None, accuracy: str | None = None,
-          memory_limit: float | str | None = None) -> xr.Dataset:
+          memory_limit: float | str | None = None, client=None) -> xr.Dataset:
     """Form a complex image from raw data or a phase history, with the processor its kind names.
 
     Parameters
@@ -93,6 +93,10 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=
         formed in tiles of the output grid (bp and ffbp) and, for bp of spotlight data, with its
         pulses in blocks read from ``raw`` as needed (``raw`` may be opened lazily from a file);
         the image's ``tiling`` attribute says how (:mod:`salkit.focus.tiles`).
+    client : dask.distributed.Client, optional
+        Form the tiles on Dask (``bp`` and ``ffbp``): at least two tiles a worker; a file's pulses
+        read by each worker itself. ``memory_limit`` is then per worker on a remote cluster, and
+        shared by the workers of a local one (``client.cluster`` a ``LocalCluster``).
 
     Returns
     -------
@@ -118,13 +122,14 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=
     """
     proc = PROCESSORS.get(str(raw.attrs.get("salkit_kind", "raw")), focus_sal)
     return proc(raw, processing, scenario=scenario, algorithm=algorithm, grid=grid, window_name=window_name,
-                plane=plane, progress=progress, accuracy=accuracy, memory_limit=memory_limit)
+                plane=plane, progress=progress, accuracy=accuracy, memory_limit=memory_limit, client=client)
 
 
 def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=None,
               algorithm: str | None = None, grid: Grid | None = None, window_name: str | None = None,
               plane: str | None = None, progress: Optional[Callable[[int, int], None]] = None,
-              accuracy: str | None = None, memory_limit: float | str | None = None, out=None) -> xr.Dataset:
+              accuracy: str | None = None, memory_limit: float | str | None = None, out=None,
+              client=None) -> xr.Dataset:
     """The SAL processor of :func:`focus` (raw dechirped data and phase histories): range
     compression, then the registered former :func:`get_former` names. Parameters as :func:`focus`.
 
@@ -134,7 +139,7 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
 
     Parameters
     ----------
-    raw, processing, scenario, algorithm, grid, window_name, plane, progress, accuracy, memory_limit
+    raw, processing, scenario, algorithm, grid, window_name, plane, progress, accuracy, memory_limit, client
         As :func:`focus`.
     out : path, optional
         Write the image tile by tile into this file (:func:`focus_to_file`) and return it opened lazily.
@@ -152,8 +157,10 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
     chirp = processing.chirp_correction if processing is not None else "none"
     stripmap = str(raw.attrs.get("mode", "spotlight")) == "stripmap" and float(raw.attrs.get("real_aperture", 0)) > 0
     held = float(raw["signal"].nbytes) if getattr(raw["signal"].variable, "_in_memory", True) else 0.0  # lazily opened: not held
+    spread = _spread(client)
     tiling = plan_tiling(P, N, g0.nx if g0 else 256, g0.ny if g0 else 256, alg, memory_budget(memory_limit, held),
-                         raw=raw.attrs.get("salkit_kind") == "raw", stripmap=stripmap, hold_image=out is None)
+                         raw=raw.attrs.get("salkit_kind") == "raw", stripmap=stripmap, hold_image=out is None,
+                         **spread)
     if tiling.pulse_block < P:  # the signal is read and range-compressed a block at a time
         pulses = DatasetPulses(raw, chirp)
         ph = pulses.geometry()
@@ -175,9 +182,9 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
                             f"spacing must not exceed the resolution (azimuth {res['azimuth']:.4g} m, "
                             f"range {res['range']:.4g} m)")
     kind_raw = raw.attrs.get("salkit_kind") == "raw"
-    if out is not None or (tiling.tiled and (g.nx, g.ny) != (tiling.nx, tiling.ny)):
+    if (g.nx, g.ny) != (tiling.nx, tiling.ny):
         tiling = plan_tiling(P, N, g.nx, g.ny, alg, tiling.budget, raw=kind_raw, stripmap=stripmap,
-                             hold_image=out is None)
+                             hold_image=out is None, **spread)
     if tiling.tiled:
         _log.info("focusing %s", tiling.describe())
         if hasattr(progress, "renamed"):  # a stage of a run's progress: its unit is now the tile
@@ -195,14 +202,25 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
                                        raw, ph).drop_vars("image")
         with ImageFileWriter(out, skel, (tiling.tile_nx, tiling.tile_ny)) as w:
             result, _, _, used = form_image(ph, p, g, algorithm=alg, window_name=window_name, accuracy=accuracy,
-                                            progress=progress, tiling=tiling, pulses=pulses, sink=w.write)
+                                            progress=progress, tiling=tiling, pulses=pulses, sink=w.write,
+                                            client=client)
             w.close(_result_attrs(result.info, used, tiling))
         return open_dataset(out, lazy=True)
     result, ig, win, used = form_image(ph, p, g, algorithm=alg, window_name=window_name, accuracy=accuracy,
-                                       progress=progress, tiling=tiling, pulses=pulses)
+                                       progress=progress, tiling=tiling, pulses=pulses, client=client)
     attrs.update(_result_attrs(result.info, used, tiling))
     image = make_image_dataset(result.image, ig.azimuth, ig.range, ig.plane, attrs, truth)
     return add_collection_geometry(image, raw, ph)
+
+
+def _spread(client) -> dict:
+    """How tiles share the budget on Dask: two tiles a worker at least; on a local cluster the
+    workers' tiles are in work at once on this machine's budget."""
+    if client is None:
+        return {}
+    n = max(1, len(client.scheduler_info().get("workers", {})))
+    local = type(getattr(client, "cluster", None)).__name__ == "LocalCluster"
+    return {"min_tiles": 2 * n, "at_once": n if local else 1}
 
 
 def _image_attrs(ph: PhaseHistory, raw: xr.Dataset, scenario, g: Grid, alg: str, win: Window, res: dict) -> dict:
@@ -277,7 +295,8 @@ def focus_to_file(raw: xr.Dataset, path, processing: Optional[Processing] = None
 
 def form_image(ph: PhaseHistory, processing: Processing, grid: Grid, *, algorithm: str | None = None,
                window_name: str | None = None, accuracy: str | None = None,
-               progress: Optional[Callable[[int, int], None]] = None, tiling=None, pulses=None, sink=None):
+               progress: Optional[Callable[[int, int], None]] = None, tiling=None, pulses=None, sink=None,
+               client=None):
     """Form the image of a phase history with a scenario's processing settings: the former, window
     and accuracy they name (each overridable), on ``grid``. The one place these settings become a
     former call (:func:`focus_sal`, and the sub-images of :mod:`salkit.stack`, which need no dataset).
@@ -299,6 +318,8 @@ def form_image(ph: PhaseHistory, processing: Processing, grid: Grid, *, algorith
     sink : callable, optional
         ``sink(i0, j0, tile)`` receives the tiles instead of an image in memory (the result's
         ``image`` is then None).
+    client : dask.distributed.Client, optional
+        Form the tiles on Dask (:func:`salkit.focus.tiles.form_tiles`).
 
     Returns
     -------
@@ -313,14 +334,14 @@ def form_image(ph: PhaseHistory, processing: Processing, grid: Grid, *, algorith
                 else max(processing.range_upsample, HIGH_ACCURACY_UPSAMPLE))
     win = Window(window_name or processing.window, processing.taylor_nbar, processing.taylor_sll)
     ig = ImageGrid.of(ph, grid)
-    if sink is not None or (tiling is not None and tiling.tiled):
+    if sink is not None or client is not None or (tiling is not None and tiling.tiled):
         img = None if sink is not None else np.empty(ig.shape, np.complex64)
 
         def keep(i0, j0, tile):
             img[i0:i0 + tile.shape[0], j0:j0 + tile.shape[1]] = tile
 
         info = form_tiles(pulses or InMemoryPulses(ph), ig, win, tiling, upsample=upsample, accuracy=acc,
-                          sink=sink or keep, progress=progress)
+                          sink=sink or keep, progress=progress, client=client)
         result = ImageResult(img, info)
     else:
         result = get_former(alg)(ph, ig, win, upsample=upsample, accuracy=acc, progress=progress)

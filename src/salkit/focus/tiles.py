@@ -20,15 +20,18 @@ import math
 from dataclasses import dataclass
 from typing import Callable, Optional
 
+import lazy_loader as _lazy
 import numpy as np
 
 from ..errors import DataFileError, ResourceError, ScenarioError
-from ..io.datasets import lazy_reads
+from ..io.datasets import lazy_reads, read_raw
 from ..resources import size_text as gib
 from ..signals.windows import Window
 from .backprojection import backproject
 from .formers import ImageGrid, get_former
 from .phasehistory import PhaseHistory, phase_history
+
+_dask_distributed = _lazy.load("dask.distributed", suppress_warning=True)
 
 #: Formers that can run in tiles of the output grid.
 TILEABLE = ("bp", "ffbp")
@@ -145,7 +148,8 @@ class Tiling:
 
 
 def plan_tiling(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str, budget: float, *,
-                raw: bool = True, stripmap: bool = False, hold_image: bool = True) -> Tiling:
+                raw: bool = True, stripmap: bool = False, hold_image: bool = True, at_once: int = 1,
+                min_tiles: int = 1) -> Tiling:
     """The largest tiles (and pulse blocks) whose estimated memory fits ``budget``.
 
     Parameters
@@ -165,6 +169,10 @@ def plan_tiling(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str,
     hold_image : bool
         The whole image is assembled in memory (8 bytes a pixel more once tiled); False when the
         tiles go to a file.
+    at_once : int
+        Tiles in work at the same time on this budget (the workers of a local Dask cluster).
+    min_tiles : int
+        At least this many tiles (work for every worker), even when fewer would fit.
 
     Returns
     -------
@@ -177,11 +185,17 @@ def plan_tiling(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str,
         the smallest size does not fit: the message names the memory and the budget.
     """
     def need(tx, ty, pb):
-        est = memory_estimate(pb, n_samples, tx, ty, algorithm, raw=raw)[0]
+        est = memory_estimate(pb, n_samples, tx, ty, algorithm, raw=raw)[0] * max(at_once, 1)
         cut = (tx, ty, pb) != (nx, ny, n_pulses)
         return est + (8.0 * nx * ny if (cut and hold_image) else 0.0)
 
+    def count(tx, ty):
+        return math.ceil(nx / tx) * math.ceil(ny / ty)
+
     tx, ty, pb = nx, ny, n_pulses
+    if min_tiles > 1 and algorithm in TILEABLE:  # work for every worker: halve the larger side
+        while count(tx, ty) < min_tiles and max(tx, ty) > MIN_TILE:
+            tx, ty = (max(MIN_TILE, math.ceil(tx / 2)), ty) if tx >= ty else (tx, max(MIN_TILE, math.ceil(ty / 2)))
     est = need(tx, ty, pb)
     what = memory_estimate(n_pulses, n_samples, nx, ny, algorithm, raw=raw)[1]
     if est <= budget:
@@ -211,6 +225,10 @@ def plan_tiling(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str,
     return Tiling(nx, ny, tx, ty, n_pulses, pb, est, budget, algorithm)
 
 
+#: The last whole phase history a :class:`DatasetPulses` read in this process (one entry).
+_WHOLE: dict = {}
+
+
 class InMemoryPulses:
     """Pulse blocks of a phase history held in memory.
 
@@ -236,6 +254,11 @@ class InMemoryPulses:
         """The whole phase history."""
         return self.ph
 
+    @property
+    def probe(self) -> PhaseHistory:
+        """The collection's kind of data (mode, telescope): the phase history itself."""
+        return self.ph
+
 
 class DatasetPulses:
     """Pulse blocks of a raw or phase-history dataset, range-compressed block by block as they are
@@ -250,6 +273,7 @@ class DatasetPulses:
 
     def __init__(self, raw, chirp_correction: str = "none"):
         self.raw, self.chirp = raw, chirp_correction
+        self.source = raw.encoding.get("source")  # the file, when opened from one: workers reopen it
         P = raw.sizes["slow_time"]
         with lazy_reads("signal"):
             probe = phase_history(raw.isel(slow_time=[0, P // 2, P - 1]), chirp_correction)  # first, centre, last
@@ -270,9 +294,26 @@ class DatasetPulses:
         return dataclasses.replace(ph, track=self.track, center_position=self.center_position)
 
     def whole(self) -> PhaseHistory:
-        """Every pulse at once."""
+        """Every pulse at once (kept for the next call in this process: tiles of FFBP on a worker
+        read the file once)."""
+        key = (self.source, self.chirp) if self.source else None
+        if key is not None and _WHOLE.get("key") == key:
+            return _WHOLE["ph"]
         with lazy_reads("signal"):
-            return phase_history(self.raw, self.chirp)
+            ph = phase_history(self.raw, self.chirp)
+        if key is not None:
+            _WHOLE.clear()
+            _WHOLE.update(key=key, ph=ph)
+        return ph
+
+    def __getstate__(self):
+        if not self.source:
+            raise TypeError("DatasetPulses of a dataset not opened from a file cannot go to other processes")
+        return {"source": self.source, "chirp": self.chirp}
+
+    def __setstate__(self, state):
+        from_file = read_raw(state["source"], lazy=True)  # a worker opens the file itself
+        self.__init__(from_file, state["chirp"])
 
     def geometry(self, block: int = 4096) -> PhaseHistory:
         """The collection without its signal (``data`` of zero samples): every pulse's position and
@@ -324,9 +365,44 @@ def _bp_blocks(pulses, tig: ImageGrid, window: Window, blocks, upsample: int) ->
     return ((re + 1j * im) / norm[:, None]).astype(np.complex64)
 
 
+def form_tile(pulses, tig: ImageGrid, window: Window, tiling: Tiling, upsample: int, accuracy: str):
+    """One tile's image: backprojected a pulse block at a time (spotlight ``bp``), else the former
+    on the whole phase history.
+
+    Parameters
+    ----------
+    pulses : InMemoryPulses or DatasetPulses
+    tig : ImageGrid
+        The tile (:func:`tile_grid`).
+    window : Window
+    tiling : Tiling
+    upsample : int
+    accuracy : str
+
+    Returns
+    -------
+    (complex64 ndarray, dict)
+        The tile and the former's info.
+    """
+    probe = pulses.probe
+    if tiling.algorithm == "bp" and not (probe.mode == "stripmap" and probe.real_aperture > 0):
+        return (_bp_blocks(pulses, tig, window, tiling.blocks, upsample),
+                {"support_azimuth": tiling.pulses, "support_range": probe.freq.size})
+    res = get_former(tiling.algorithm)(pulses.whole(), tig, window, upsample=upsample, accuracy=accuracy)
+    return res.image, res.info
+
+
+def _tile_task(pulses, ig: ImageGrid, window: Window, tiling: Tiling, k: int, upsample: int, accuracy: str):
+    """Dask task: tile ``k`` of the plan (top level, so workers import it); the worker reads its own
+    pulses (a file's blocks) or holds the scattered phase history."""
+    i0, i1, j0, j1 = tiling.tiles[k]
+    img, info = form_tile(pulses, tile_grid(ig, i0, i1, j0, j1), window, tiling, upsample, accuracy)
+    return k, img, info
+
+
 def form_tiles(pulses, ig: ImageGrid, window: Window, tiling: Tiling, *, upsample: int, accuracy: str,
                sink: Callable[[int, int, np.ndarray], None],
-               progress: Optional[Callable[[int, int], None]] = None) -> dict:
+               progress: Optional[Callable[[int, int], None]] = None, client=None) -> dict:
     """Form the image tile by tile and hand each tile to ``sink(i0, j0, tile)``.
 
     Parameters
@@ -339,39 +415,50 @@ def form_tiles(pulses, ig: ImageGrid, window: Window, tiling: Tiling, *, upsampl
     upsample : int
     accuracy : str
     sink : callable
-        Receives each finished tile (complex64) at its pixel offsets.
+        Receives each finished tile (complex64) at its pixel offsets (in this process).
     progress : callable, optional
         ``progress(done, total)`` in tiles.
+    client : dask.distributed.Client, optional
+        Form the tiles as Dask tasks, one a tile: a file's pulses are read by each worker itself
+        (:class:`DatasetPulses` reopens the file), a phase history in memory is scattered to the
+        workers once. The tiles are the same as in this process; a worker lost mid-tile has its
+        tile recomputed by Dask.
 
     Returns
     -------
     dict
-        The former's info of the last tile (support figures) and ``tiles``, ``tile_nx``, ``tile_ny``,
+        The former's info of a tile (support figures) and ``tiles``, ``tile_nx``, ``tile_ny``,
         ``pulse_block``.
     """
-    alg = tiling.algorithm
     blocked = tiling.pulse_block < tiling.pulses
-    whole = None if blocked else pulses.whole()
-    probe = whole if whole is not None else pulses.block(0, 2)
-    stripmap = probe.mode == "stripmap" and probe.real_aperture > 0
-    backprojected = alg == "bp" and not stripmap
+    probe = pulses.probe
+    backprojected = tiling.algorithm == "bp" and not (probe.mode == "stripmap" and probe.real_aperture > 0)
     if blocked and not backprojected:
-        raise ScenarioError("processing.algorithm", alg, "only bp of spotlight data forms its pulses in blocks")
-    if whole is not None and backprojected:
-        pulses = InMemoryPulses(whole)
-    info = {}
-    tiles = tiling.tiles
-    for k, (i0, i1, j0, j1) in enumerate(tiles):
-        tig = tile_grid(ig, i0, i1, j0, j1)
-        if backprojected:
-            img = _bp_blocks(pulses, tig, window, tiling.blocks, upsample)
-            info = {"support_azimuth": tiling.pulses, "support_range": probe.freq.size}
-        else:
-            res = get_former(alg)(whole, tig, window, upsample=upsample, accuracy=accuracy)
-            img, info = res.image, res.info
-        sink(i0, j0, img)
-        if progress is not None:
-            progress(k + 1, len(tiles))
+        raise ScenarioError("processing.algorithm", tiling.algorithm, "only bp of spotlight data forms its pulses "
+                            "in blocks")
+    remote_file = client is not None and isinstance(pulses, DatasetPulses) and pulses.source
+    if not blocked and not remote_file:
+        pulses = InMemoryPulses(pulses.whole())  # read once, for every tile
+    info, tiles = {}, tiling.tiles
+    if client is None:
+        for k, (i0, i1, j0, j1) in enumerate(tiles):
+            img, info = form_tile(pulses, tile_grid(ig, i0, i1, j0, j1), window, tiling, upsample, accuracy)
+            sink(i0, j0, img)
+            if progress is not None:
+                progress(k + 1, len(tiles))
+    else:
+        src = pulses if remote_file else client.scatter(pulses, broadcast=True)
+        futures = [client.submit(_tile_task, src, ig, window, tiling, k, upsample, accuracy, pure=False)
+                   for k in range(len(tiles))]
+        try:
+            for n, fut in enumerate(_dask_distributed.as_completed(futures)):
+                k, img, info = fut.result()
+                fut.release()
+                sink(tiles[k][0], tiles[k][2], img)
+                if progress is not None:
+                    progress(n + 1, len(tiles))
+        finally:
+            client.cancel(futures)
     info = {k: v for k, v in info.items() if v is not None}
     info.update({"tiles": len(tiles), "tile_nx": tiling.tile_nx, "tile_ny": tiling.tile_ny,
                  "pulse_block": tiling.pulse_block})
