@@ -36,3 +36,22 @@ def test_unreadable_cphd_refused(tmp_path):
     (tmp_path / "c.cphd").write_bytes(b"CPHD/1.0.1\nnonsense")
     with pytest.raises(DataFileError, match="cannot be read as CPHD"):
         read_cphd(tmp_path / "c.cphd")
+
+
+def test_cphd_read_lazily_in_vector_blocks(tmp_path, collection):
+    """lazy=True: the signal stays in the file and is read a block of vectors at a time (sarkit's
+    start/stop vectors); every slice equals the eager read, and bp focuses it in pulse blocks to
+    the same image bit for bit."""
+    from salkit.focus import memory_estimate
+    sc, raw, img = collection
+    p = write_cphd(range_compress(raw), tmp_path / "c.cphd", origin=(35.0, -106.5, 1600.0))
+    eager, lazy = read_cphd(p), read_phase_data(p, lazy=True)
+    assert not lazy["signal"].variable._in_memory and lazy.encoding["source"] == str(p)
+    for sl in (slice(0, 7), slice(50, 51), slice(100, None), slice(3, 90, 4)):
+        np.testing.assert_array_equal(lazy["signal"][sl].values, eager["signal"][sl].values)
+    P, M = eager["signal"].shape
+    whole = focus(eager, sc.processing, algorithm="bp")
+    blocks = focus(lazy, sc.processing, algorithm="bp",
+                   memory_limit=memory_estimate(P, M, sc.processing.grid.nx, sc.processing.grid.ny, raw=False)[0] / 2)
+    assert blocks.attrs["pulse_block"] < P
+    np.testing.assert_array_equal(blocks["image"].values, whole["image"].values)

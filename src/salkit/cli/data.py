@@ -60,7 +60,7 @@ def focus(raw: Path = typer.Argument(..., metavar="RAW", help="raw or phase-hist
             plot.image_db(image, tmp / "image.png", title="DL-SAL eq-19 image")
         globals()["out"].print(f"wrote {Path(out_dir) / 'image.nc'}")
         return
-    ds = read_phase_data(raw, lazy=True)  # NetCDF: the signal read as focusing needs it
+    ds = read_phase_data(raw, lazy=True)  # NetCDF, CPHD: the signal read as focusing needs it
     if grid is None and plane is not None:
         src = "the scenario stored in the file" if "scenario" in ds.attrs else "the default (256 x 256 at 0.8 of the resolution)"
         out.print(f"--plane {plane} without --nx/--ny/--dx/--dy: grid size and spacing from {src}, "

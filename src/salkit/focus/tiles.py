@@ -24,7 +24,8 @@ import lazy_loader as _lazy
 import numpy as np
 
 from ..errors import DataFileError, ResourceError, ScenarioError
-from ..io.datasets import lazy_reads, read_raw
+from ..io.datasets import lazy_reads
+from ..io.formats import read_phase_data
 from ..resources import size_text as gib
 from ..signals.windows import Window
 from .backprojection import backproject
@@ -312,7 +313,7 @@ class DatasetPulses:
         return {"source": self.source, "chirp": self.chirp}
 
     def __setstate__(self, state):
-        from_file = read_raw(state["source"], lazy=True)  # a worker opens the file itself
+        from_file = read_phase_data(state["source"], lazy=True)  # a worker opens the file itself
         self.__init__(from_file, state["chirp"])
 
     def geometry(self, block: int = 4096) -> PhaseHistory:

@@ -17,6 +17,8 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from xarray.backends import BackendArray
+from xarray.core.indexing import IndexingSupport, LazilyIndexedArray, explicit_indexing_adapter
 
 from ..constants import SPEED_OF_LIGHT
 from ..errors import DataFileError
@@ -222,7 +224,46 @@ def write_cphd(ph: xr.Dataset, path: str | Path, origin=None, collector: str = "
     return Path(path)
 
 
-def read_cphd(path: str | Path, channel: str | None = None) -> xr.Dataset:
+class CPHDSignal(BackendArray):
+    """A CPHD channel's signal (vectors x samples) read through sarkit only where indexed: each read
+    opens the file and takes the vectors it needs (``read_signal(start_vector=, stop_vector=)``),
+    conjugated to salkit's sign when the file's SGN is +1, as complex64.
+
+    Parameters
+    ----------
+    path : Path
+    channel : str
+    shape : (int, int)
+    sgn : int
+    """
+
+    def __init__(self, path: Path, channel: str, shape, sgn: int):
+        self.path, self.channel, self.shape, self.sgn = Path(path), channel, tuple(shape), int(sgn)
+        self.dtype = np.dtype(np.complex64)
+
+    def __getitem__(self, key):
+        return explicit_indexing_adapter(key, self.shape, IndexingSupport.BASIC, self._raw)
+
+    def _raw(self, key):
+        rows, cols = (tuple(key) + (slice(None),) * 2)[:2]
+        r = range(self.shape[0])[rows] if isinstance(rows, slice) else range(int(rows), int(rows) + 1)
+        if len(r) == 0:
+            return np.zeros((0, self.shape[1]), np.complex64)[:, cols]
+        a, b = r.start, r.stop if r.step > 0 else r.start + 1
+        skcphd, _ = _sarkit()
+        try:
+            with open(self.path, "rb") as fh, skcphd.Reader(fh) as rd:
+                data = rd.read_signal(self.channel, start_vector=min(a, b), stop_vector=max(a, b))
+        except Exception as e:  # noqa: BLE001 - sarkit and numpy raise many kinds for bad files
+            raise DataFileError(f"{self.path}: vectors {a} to {b - 1} cannot be read: {type(e).__name__}: {e}") from None
+        sig = np.asarray(data, np.complex64)
+        if self.sgn == 1:
+            sig = np.conj(sig)
+        sig = sig[::r.step] if r.step != 1 else sig
+        return sig[0, cols] if not isinstance(rows, slice) else sig[:, cols]
+
+
+def read_cphd(path: str | Path, channel: str | None = None, lazy: bool = False) -> xr.Dataset:
     """Read one channel of a CPHD file (FX domain) as a salkit phase-history dataset.
 
     Parameters
@@ -230,6 +271,10 @@ def read_cphd(path: str | Path, channel: str | None = None) -> xr.Dataset:
     path : str or Path
     channel : str, optional
         Channel identifier; default the reference channel.
+    lazy : bool
+        Read the metadata and the per-vector parameters now and the signal only where it is
+        indexed (:class:`CPHDSignal`: a block of vectors at a time through sarkit), for a
+        collection larger than memory.
 
     Returns
     -------
@@ -248,7 +293,13 @@ def read_cphd(path: str | Path, channel: str | None = None) -> xr.Dataset:
         with open(p, "rb") as fh, skcphd.Reader(fh) as r:
             tree = r.metadata.xmltree
             ch = channel or tree.findtext("{*}Channel/{*}RefChId")
-            data, pvp = r.read_channel(ch)
+            if lazy:  # the vectors' parameters now, the signal where indexed
+                pvp = r.read_pvps(ch)
+                nv = int(tree.findtext(f"{{*}}Data/{{*}}Channel[{{*}}Identifier='{ch}']/{{*}}NumVectors"))
+                ns = int(tree.findtext(f"{{*}}Data/{{*}}Channel[{{*}}Identifier='{ch}']/{{*}}NumSamples"))
+                data = None
+            else:
+                data, pvp = r.read_channel(ch)
     except DataFileError:
         raise
     except Exception as e:  # noqa: BLE001 - sarkit and lxml raise many kinds for bad files
@@ -269,25 +320,31 @@ def read_cphd(path: str | Path, channel: str | None = None) -> xr.Dataset:
     pos = (np.asarray(pvp["TxPos"], np.float64) - o_ecf) @ rot
     vel = np.asarray(pvp["TxVel"], np.float64) @ rot
     ref = np.linalg.norm(np.asarray(pvp["TxPos"], np.float64) - np.asarray(pvp["SRPPos"], np.float64), axis=1)
-    M = data.shape[1]
+    if data is None:
+        sig = xr.Variable(("slow_time", "frequency"), LazilyIndexedArray(CPHDSignal(p, ch, (nv, ns), sgn)))
+        M = ns
+    else:
+        M = data.shape[1]
+        sig = np.asarray(data, np.complex64)
+        if sgn == 1:
+            sig = np.conj(sig)
     freq = sc0[0] + scss[0] * np.arange(M)
-    sig = np.asarray(data, np.complex64)
-    if sgn == 1:
-        sig = np.conj(sig)
     mode = tree.findtext("{*}CollectionID/{*}RadarMode/{*}ModeType") or "SPOTLIGHT"
     attrs = {"salkit_kind": "phase_history", "salkit_format": "1.0", "origin_llh": llh,
              "mode": "stripmap" if mode.upper() == "STRIPMAP" else "spotlight", "source_format": "CPHD 1.0",
              "source_file": p.name, "cphd_sgn": sgn}
     if np.all(np.asarray(pvp["aFRR2"]) > 0):
         attrs["chirp_rate"] = float(2.0 / (SPEED_OF_LIGHT * np.median(pvp["aFRR2"])))
-    return xr.Dataset(
-        {"signal": (("slow_time", "frequency"), sig),
+    ds = xr.Dataset(
+        {"signal": sig if data is None else (("slow_time", "frequency"), sig),
          "position": (("slow_time", "xyz"), pos),
          "velocity": (("slow_time", "xyz"), vel),
          "reference_range": (("slow_time",), ref)},
         coords={"slow_time": ("slow_time", np.asarray(pvp["TxTime"], np.float64), {"units": "s"}),
                 "frequency": ("frequency", freq, {"units": "Hz"}), "xyz": ("xyz", ["x", "y", "z"])},
         attrs=attrs)
+    ds.encoding["source"] = str(p)
+    return ds
 
 
 def failures_by_severity(con) -> dict:

@@ -21,7 +21,8 @@ def read_phase_data(path, lazy: bool = False) -> "_xr.Dataset":
     ----------
     path : str or Path
     lazy : bool
-        NetCDF: leave the signal on disk until it is indexed (:func:`salkit.io.read_raw`).
+        NetCDF and CPHD: leave the signal on disk until it is indexed (:func:`salkit.io.read_raw`,
+        :func:`salkit.io.read_cphd`), read a block of pulses at a time by focusing.
 
     Returns
     -------
@@ -35,7 +36,7 @@ def read_phase_data(path, lazy: bool = False) -> "_xr.Dataset":
     """
     suf = _P(path).suffix.lower()
     if suf == ".cphd":
-        return read_cphd(path)
+        return read_cphd(path, lazy=lazy)
     if suf == ".mat":
         return read_gotcha(path)
     if suf in (".nc", ".h5", ".nc4", ".hdf5"):
