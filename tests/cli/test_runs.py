@@ -70,3 +70,27 @@ def test_run_with_autofocus_records_history(tmp_path, scen):
     for f in ("autofocus.png", "image_focus.nc"):
         assert (out / f).is_file()
     assert "autofocus.png" in (out / "report.html").read_text()
+
+
+def test_simulate_a_history_larger_than_its_budget_in_blocks(tmp_path):
+    """--memory-limit below the history's size: simulated and written a block of pulses at a time
+    (a note says so), the file equal bit for bit to the one simulated at once; a budget below one
+    block: exit 2, nothing written."""
+    import numpy as np
+    import yaml
+
+    from salkit.io import open_dataset
+
+    from ..conftest import SPOT, merge
+    scen = tmp_path / "s.yaml"
+    scen.write_text(yaml.safe_dump(merge(SPOT, waveform__prf=90000.0, waveform__pulse_width=5e-6,
+                                         receiver__noise={"enabled": True, "signal_photons": 5.0})))
+    assert salkit("simulate", scen, "--out", tmp_path / "whole.nc").returncode == 0
+    r = salkit("simulate", scen, "--out", tmp_path / "blocks.nc", "--memory-limit", "3MiB")
+    assert r.returncode == 0, r.stderr
+    assert "blocks of pulses" in r.stderr
+    a, b = open_dataset(tmp_path / "whole.nc"), open_dataset(tmp_path / "blocks.nc")
+    assert a.sizes["slow_time"] > 512 and b["signal"].encoding["chunksizes"][0] <= 512
+    np.testing.assert_array_equal(a["signal"].values, b["signal"].values)
+    r = salkit("simulate", scen, "--out", tmp_path / "no.nc", "--memory-limit", "200KiB")
+    assert r.returncode == 2 and "one block of 512 pulses" in r.stderr and not (tmp_path / "no.nc").exists()

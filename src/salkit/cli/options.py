@@ -59,7 +59,13 @@ def _origin(origin: Optional[str]):
 
 def apply_memory_limit(text: Optional[str]) -> None:
     """``--memory-limit SIZE``: the memory budget of this command (the smaller of it and
-    ``--max-memory``); jobs beyond it run in tiles where they can, and are refused where they cannot."""
+    ``--max-memory``); jobs beyond it run in tiles where they can, and are refused where they cannot.
+
+    Parameters
+    ----------
+    text : str or None
+        The size as given (``512MiB``, ``4GiB``, bytes); None leaves the budget as it is.
+    """
     if text is None:
         return
     from ..resources import parse_size, set_limit, user_limit

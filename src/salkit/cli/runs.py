@@ -1,6 +1,7 @@
 """``salkit run`` (a scenario into a complete report folder) and ``salkit simulate`` (raw data only)."""
 from __future__ import annotations
 
+import logging
 from pathlib import Path
 from typing import List, Optional
 
@@ -43,13 +44,31 @@ def run(scenario: Path = typer.Argument(..., metavar="SCENARIO.yaml", help="scen
 def simulate(scenario: Path = typer.Argument(..., metavar="SCENARIO.yaml", help="scenario file"),
              out: Path = typer.Option(..., "--out", metavar="FILE.nc", help="raw NetCDF file to write (complex echoes, slow time x fast time, s)"),
              set_: List[str] = typer.Option([], "--set", metavar="KEY=VALUE", help="override a field in its SI unit, e.g. waveform.prf=2000 (Hz); repeatable"),
-             overwrite: bool = typer.Option(False, "--overwrite", help="replace an existing file")):
+             overwrite: bool = typer.Option(False, "--overwrite", help="replace an existing file"),
+             memory_limit: Optional[str] = typer.Option(None, "--memory-limit", metavar="SIZE", help="memory budget, e.g. 4GiB (default: what is available): a history bigger than it is simulated and written a block of pulses at a time (the same numbers)")):
     """Simulate raw dechirped data and write it to a NetCDF file."""
+    from ..focus.pipeline import memory_budget
     from ..io import write_dataset
     from ..params import load_scenario
+    from ..resources import size_text
     from ..simulate import simulate as sim
+    from ..simulate.echoes import memory_estimate, signal_shape
+    from ..simulate.sal import simulate_to_file
     _check_out_file(out, overwrite)
     sc = load_scenario(scenario, list(set_))
+    apply_memory_limit(memory_limit)
+    if not sc.is_downlooking:
+        need, what = memory_estimate(sc)
+        P, N = signal_shape(sc)
+        budget = memory_budget()
+        if need + 8.0 * P * N > budget:  # the history and the file's image in memory: in blocks instead
+            logging.getLogger("salkit").info(
+                "%s: about %s with the file written at once, more than the %s budget: simulated and "
+                "written in blocks of pulses", what, size_text(need + 8.0 * P * N), size_text(budget))
+            with _Bar() as bar:
+                simulate_to_file(sc, out, memory_limit=budget / 2, progress=lambda d, n: bar("pulses simulated", d, n))
+            globals()["out"].print(f"wrote {out} (in blocks of pulses)")
+            return
     _preflight(sc)
     with _Bar() as bar:
         raw = sim(sc, progress=lambda d, n: bar("pulses simulated", d, n))

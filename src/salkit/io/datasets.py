@@ -211,50 +211,63 @@ def lazy_reads(name: str = "signal"):
                             f"corrupted ({e})") from None
 
 
-class ImageFileWriter:
-    """An image written tile by tile into a chunked NetCDF4/HDF5 file, never whole in memory.
+class ChunkedFileWriter:
+    """One large variable written block by block into a chunked NetCDF4/HDF5 file, never whole in
+    memory (an image tile by tile, a raw signal a block of pulses at a time).
 
-    The dataset's other variables, coordinates and attributes (``template``, without ``image``)
-    are written first to a temporary name beside ``path``; ``image`` (azimuth, range) complex64 is
-    created with chunks of one tile and a fletcher32 checksum, filled by :meth:`write`, and the file
-    renamed onto ``path`` by :meth:`close`; :meth:`discard` (or leaving a ``with`` block by an
-    exception) removes it, so nothing half-written is left. The result reads like any salkit image
+    The dataset's other variables, coordinates and attributes (``template``) are written first to a
+    temporary name beside ``path``; the variable ``name`` (``dims``, complex64) is created with
+    ``chunks`` and a fletcher32 checksum, filled by :meth:`write`, and the file renamed onto
+    ``path`` by :meth:`close`; :meth:`discard` (or leaving a ``with`` block by an exception)
+    removes it, so nothing half-written is left. The result reads like any salkit file
     (:func:`open_dataset`, lazily with ``lazy=True``).
 
     Parameters
     ----------
     path : path
     template : xarray.Dataset
-        The image dataset without ``image``: coordinates ``azimuth`` and ``range`` (their sizes
-        are the image's), the other variables and the attributes.
+        The dataset without ``name``, its dimensions holding ``dims`` (their sizes are the
+        variable's).
+    name : str
+    dims : (str, str)
     chunks : (int, int)
-        Chunk shape, pixels (a tile).
-    image_attrs : dict, optional
-        Attributes of the ``image`` variable.
+        Chunk shape (a tile, a block of pulses).
+    attrs : dict, optional
+        Attributes of the variable.
     """
 
-    def __init__(self, path, template: xr.Dataset, chunks, image_attrs: dict | None = None):
+    def __init__(self, path, template: xr.Dataset, name: str, dims, chunks, attrs: dict | None = None):
         self.path = Path(path)
         self.tmp = self.path.with_name(f".{self.path.name}.tmp-{os.getpid()}")
+        self.file = None
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
                 template.to_netcdf(self.tmp, engine="h5netcdf", invalid_netcdf=True,
                                    encoding=_checksum_encoding(template))
             self.file = _h5netcdf.File(self.tmp, "a", invalid_netcdf=True)
-            shape = (template.sizes["azimuth"], template.sizes["range"])
-            ch = (max(1, min(int(chunks[0]), shape[0])), max(1, min(int(chunks[1]), shape[1])))
-            self.var = self.file.create_variable("image", ("azimuth", "range"), dtype=np.complex64, chunks=ch,
-                                                 fletcher32=True)
-            for k, v in (image_attrs or {"long_name": "focused complex image", "units": "1"}).items():
+            shape = tuple(template.sizes[d] for d in dims)
+            ch = tuple(max(1, min(int(c), n)) for c, n in zip(chunks, shape))
+            self.var = self.file.create_variable(name, tuple(dims), dtype=np.complex64, chunks=ch, fletcher32=True)
+            for k, v in (attrs or {}).items():
                 self.var.attrs[k] = v
         except OSError as e:
             self.discard()
             raise EnvironmentProblem(f"cannot write {self.path}: {_os_reason(e)}") from None
 
-    def write(self, i0: int, j0: int, tile: np.ndarray) -> None:
-        """Store a tile at pixel offsets (``i0``, ``j0``)."""
-        self.var[i0:i0 + tile.shape[0], j0:j0 + tile.shape[1]] = np.asarray(tile, np.complex64)
+    def write(self, i0: int, j0: int, block: np.ndarray) -> None:
+        """Store a block at offsets (``i0``, ``j0``)."""
+        try:
+            self.var[i0:i0 + block.shape[0], j0:j0 + block.shape[1]] = np.asarray(block, np.complex64)
+        except OSError as e:
+            self.discard()
+            raise EnvironmentProblem(f"cannot write {self.path}: {_os_reason(e)}") from None
+
+    def add(self, name: str, dims, values: np.ndarray, attrs: dict | None = None) -> None:
+        """Add a small variable on existing dimensions (known only once the blocks are written)."""
+        v = self.file.create_variable(name, tuple(dims), data=np.asarray(values), fletcher32=True)
+        for k, a in (attrs or {}).items():
+            v.attrs[k] = a
 
     def close(self, attrs: dict | None = None) -> Path:
         """Add ``attrs`` to the file's attributes, close it and rename it onto ``path``."""
@@ -272,10 +285,9 @@ class ImageFileWriter:
 
     def discard(self) -> None:
         """Close and remove the temporary file."""
-        f = getattr(self, "file", None)
-        if f is not None:
+        if self.file is not None:
             try:
-                f.close()
+                self.file.close()
             except Exception:  # noqa: BLE001 - already broken: only removal matters
                 pass
             self.file = None
@@ -284,12 +296,29 @@ class ImageFileWriter:
         except OSError:
             pass
 
-    def __enter__(self) -> "ImageFileWriter":
+    def __enter__(self):
         return self
 
     def __exit__(self, kind, value, tb) -> None:
         if kind is not None:
             self.discard()
+
+
+class ImageFileWriter(ChunkedFileWriter):
+    """An image written tile by tile (:class:`ChunkedFileWriter` of ``image`` (azimuth, range)).
+
+    Parameters
+    ----------
+    path : path
+    template : xarray.Dataset
+        The image dataset without ``image``.
+    chunks : (int, int)
+        A tile, pixels.
+    """
+
+    def __init__(self, path, template: xr.Dataset, chunks):
+        super().__init__(path, template, "image", ("azimuth", "range"), chunks,
+                         {"long_name": "focused complex image", "units": "1"})
 
 
 @contextmanager

@@ -1,6 +1,7 @@
 """The ``sal`` simulator: the dechirped raw phase history of a :class:`~salkit.params.Scenario`."""
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -9,11 +10,13 @@ import xarray as xr
 from ..atmosphere.beam import two_way_gains
 from ..geometry.collection import build_collection
 from ..geometry.sampling import check_sampling, delay_spread, n_fast_samples, resolution_theory
-from ..io.datasets import make_raw_dataset
+from ..errors import ResourceError
+from ..io.datasets import ChunkedFileWriter, make_raw_dataset
 from ..params.models import Scenario
-from ..resources import check_memory
+from ..resources import available_memory, check_memory, size_text
 from ..signals.chirp import reference_beat
-from .echoes import ProgressFn, echo_signal, fast_time_axis, memory_estimate, photon_noise, signal_scale
+from .echoes import (ProgressFn, echo_signal, fast_time_axis, memory_estimate, photon_noise, signal_scale,
+                     signal_shape)
 from .scene import build_scatterers
 from .turbulent import turbulent_path, wave_optics_plan
 
@@ -40,61 +43,152 @@ def simulate_sal(scenario: Scenario, progress: ProgressFn = None, noise: bool | 
     need, what = memory_estimate(scenario)
     check_memory(need, what, "reduce receiver.adc_rate, the aperture (platform.aperture_length, prf) or the "
                  "scene's scatterer count")
-    col = build_collection(scenario)
-    check_sampling(scenario, col)
     rng = rng if rng is not None else np.random.default_rng(scenario.seed)
-    n = n_fast_samples(scenario, col)
-    t = fast_time_axis(n, scenario.receiver.adc_rate)
-    res = resolution_theory(scenario, col)
-    look = -col.center_position / np.linalg.norm(col.center_position)
-    cos_graze = math.sqrt(max(1.0 - look[2] ** 2, 1e-12))
-    cell = res["azimuth"] * res["slant_range"] / cos_graze  # ground area of a resolution cell
-    k = 4 * math.pi / scenario.waveform.wavelength
-    pc = col.center_position
-    if scenario.platform.mode == "spotlight":  # the image phase model of salkit.focus
-        def smooth_phase(x):
-            return k * (np.linalg.norm(x - pc, axis=1) - np.linalg.norm(pc))
-    else:
-        a = col.track
-        rs = np.linalg.norm(-pc - np.dot(-pc, a) * a)
-
-        def smooth_phase(x):
-            rel = x - pc
-            return k * (np.linalg.norm(rel - np.outer(rel @ a, a), axis=1) - rs)
-    spos, samp = build_scatterers(scenario, cell, rng, smooth_phase)
-    scale = signal_scale(scenario, col, n)
-    path = turbulent_path(scenario, col) if scenario.atmosphere is not None else None
-    gains = None
-    if path is not None and scenario.atmosphere.model == "wave_optics":
-        plan, region = wave_optics_plan(scenario, col)
-        check_memory(col.n_pulses * len(spos) * 16.0 + 3 * plan.n ** 2 * 8.0,
-                     f"wave-optics gains of {len(spos)} scatterers x {col.n_pulses} pulses",
-                     "use fewer scatterers or pulses")
-        gains, _ = two_way_gains(path, col.positions, spos, scenario.platform.real_aperture, region,
-                                 sampling=plan, progress=progress)
-        path = None
-    sig = echo_signal(col, spos, samp * scale, scenario, t, progress=None if gains is not None else progress,
-                      path=path, gains=gains)
-    if scenario.platform.phase_error is not None:
-        err = scenario.platform.phase_error.values(col.n_pulses)
-        sig *= np.exp(1j * err).astype(np.complex64)[:, None]
+    job = _Echoes(scenario, rng, progress)
+    sig = job.block(0, job.col.n_pulses, noise)
     use_noise = scenario.receiver.noise.enabled if noise is None else noise
-    if use_noise:
-        photon_noise(sig, scenario.receiver.noise, rng)
-    if not scenario.receiver.iq:
-        sig = sig.real.astype(np.complex64)
     units = "shot_noise" if scenario.receiver.noise.enabled else "reflectivity"
-    ds = make_raw_dataset(sig, col, t, scenario, signal_units=units, noise=use_noise)
-    refc = scenario.receiver.reference_channel
-    if refc is not None:
-        w = scenario.waveform
+    ds = make_raw_dataset(sig, job.col, job.t, scenario, signal_units=units, noise=use_noise)
+    for name, (dims, values, attrs) in job.extras().items():
+        ds[name] = (dims, values, attrs)
+    ds.attrs.update(job.extra_attrs())
+    return ds
+
+
+class _Echoes:
+    """A simulation's set-up (collection, scatterers, turbulent path or gains, scale) and its echoes
+    for any run of pulses, the random numbers drawn in the same order whether the pulses come at
+    once or in blocks of whole noise chunks (multiples of :data:`NOISE_BLOCK`)."""
+
+    def __init__(self, scenario: Scenario, rng: np.random.Generator, progress: ProgressFn = None):
+        self.sc, self.rng, self.progress = scenario, rng, progress
+        col = self.col = build_collection(scenario)
+        check_sampling(scenario, col)
+        n = n_fast_samples(scenario, col)
+        self.t = fast_time_axis(n, scenario.receiver.adc_rate)
+        res = resolution_theory(scenario, col)
+        look = -col.center_position / np.linalg.norm(col.center_position)
+        cos_graze = math.sqrt(max(1.0 - look[2] ** 2, 1e-12))
+        cell = res["azimuth"] * res["slant_range"] / cos_graze  # ground area of a resolution cell
+        k = 4 * math.pi / scenario.waveform.wavelength
+        pc = col.center_position
+        if scenario.platform.mode == "spotlight":  # the image phase model of salkit.focus
+            def smooth_phase(x):
+                return k * (np.linalg.norm(x - pc, axis=1) - np.linalg.norm(pc))
+        else:
+            a = col.track
+            rs = np.linalg.norm(-pc - np.dot(-pc, a) * a)
+
+            def smooth_phase(x):
+                rel = x - pc
+                return k * (np.linalg.norm(rel - np.outer(rel @ a, a), axis=1) - rs)
+        self.spos, samp = build_scatterers(scenario, cell, rng, smooth_phase)
+        self.amp = samp * signal_scale(scenario, col, n)
+        self.path = turbulent_path(scenario, col) if scenario.atmosphere is not None else None
+        self.gains = None
+        if self.path is not None and scenario.atmosphere.model == "wave_optics":
+            plan, region = wave_optics_plan(scenario, col)
+            check_memory(col.n_pulses * len(self.spos) * 16.0 + 3 * plan.n ** 2 * 8.0,
+                         f"wave-optics gains of {len(self.spos)} scatterers x {col.n_pulses} pulses",
+                         "use fewer scatterers or pulses")
+            self.gains, _ = two_way_gains(self.path, col.positions, self.spos, scenario.platform.real_aperture,
+                                          region, sampling=plan, progress=progress)
+            self.path = None
+        pe = scenario.platform.phase_error
+        self.phase_error = None if pe is None else np.exp(1j * pe.values(col.n_pulses)).astype(np.complex64)
+
+    def block(self, a: int, b: int, noise: bool | None = None) -> np.ndarray:
+        """Echoes of pulses ``a`` to ``b`` with their noise, complex64 (b - a, N)."""
+        sc, col = self.sc, self.col
+        sub = dataclasses.replace(col, slow_time=col.slow_time[a:b], positions=col.positions[a:b],
+                                  velocity=col.velocity[a:b], reference_range=col.reference_range[a:b],
+                                  boresight=col.boresight[a:b]) if (a, b) != (0, col.n_pulses) else col
+        tick = None
+        if self.progress is not None and self.gains is None:
+            tick = (lambda d, n: self.progress(a + d, col.n_pulses))
+        sig = echo_signal(sub, self.spos, self.amp, sc, self.t, progress=tick, path=self.path,
+                          gains=None if self.gains is None else self.gains[a:b])
+        if self.phase_error is not None:
+            sig *= self.phase_error[a:b, None]
+        if (sc.receiver.noise.enabled if noise is None else noise):
+            photon_noise(sig, sc.receiver.noise, self.rng)
+        if not sc.receiver.iq:
+            sig = sig.real.astype(np.complex64)
+        return sig
+
+    def extras(self) -> dict:
+        """Variables drawn after every pulse (the reference channel's beat and its noise)."""
+        refc = self.sc.receiver.reference_channel
+        if refc is None:
+            return {}
+        w, t = self.sc.waveform, self.t
         ref = reference_beat(t, w.carrier_frequency, w.rate, w.nonlinearity, refc.delay)
         sd = 10 ** (-refc.snr_db / 20) / math.sqrt(2)
-        ref = ref + sd * (rng.standard_normal(t.size) + 1j * rng.standard_normal(t.size))
-        ds["reference_signal"] = (("fast_time",), ref.astype(np.complex64),
-                                  {"long_name": "dechirped reference-channel beat"})
-        ds.attrs["reference_delay"] = refc.delay
-    if not scenario.receiver.iq:
-        d0, d1 = delay_spread(scenario, col)
-        ds.attrs["real_sideband"] = "negative" if d0 >= 0 else "positive"
-    return ds
+        ref = ref + sd * (self.rng.standard_normal(t.size) + 1j * self.rng.standard_normal(t.size))
+        return {"reference_signal": (("fast_time",), ref.astype(np.complex64),
+                                     {"long_name": "dechirped reference-channel beat"})}
+
+    def extra_attrs(self) -> dict:
+        """Attributes known once the set-up is: the reference delay, the real sideband."""
+        out = {}
+        if self.sc.receiver.reference_channel is not None:
+            out["reference_delay"] = self.sc.receiver.reference_channel.delay
+        if not self.sc.receiver.iq:
+            d0, d1 = delay_spread(self.sc, self.col)
+            out["real_sideband"] = "negative" if d0 >= 0 else "positive"
+        return out
+
+
+#: Pulses of one draw of :func:`salkit.simulate.echoes.photon_noise` (512 Gaussian, 256 Poisson):
+#: blocks of a multiple of it draw the same numbers as the whole signal at once.
+NOISE_BLOCK = 512
+
+
+def simulate_to_file(scenario: Scenario, path, memory_limit: float | None = None, progress: ProgressFn = None):
+    """Simulate the raw data of a SAL scenario straight into a NetCDF file, a block of pulses at a
+    time, for histories larger than memory: the same numbers as :func:`simulate_sal` (the random
+    numbers are drawn in the same order), written as a chunked file (one chunk a block;
+    :class:`salkit.io.ChunkedFileWriter`, complete or absent).
+
+    Parameters
+    ----------
+    scenario : Scenario
+    path : path
+        The raw file to write.
+    memory_limit : float, optional
+        Bytes for the signal of one block (default: an eighth of the memory available).
+    progress : callable, optional
+        ``progress(done, total)`` in pulses.
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    ResourceError
+        When one block of 512 pulses, or the scene, does not fit.
+    """
+    rng = np.random.default_rng(scenario.seed)
+    budget = float(memory_limit) if memory_limit is not None else available_memory() / 8.0
+    P, N = signal_shape(scenario)
+    per_pulse = 3 * 8.0 * N  # the block, its float32 parts in the kernels, the noise draw
+    blk = P if per_pulse * P <= budget else int(budget // (per_pulse * NOISE_BLOCK)) * NOISE_BLOCK
+    if blk < min(NOISE_BLOCK, P):
+        raise ResourceError(f"simulating {P} pulses x {N} samples in blocks: one block of {min(NOISE_BLOCK, P)} pulses "
+                            f"needs about {size_text(per_pulse * min(NOISE_BLOCK, P))}, more than the {size_text(budget)} "
+                            "available (the budget); raise --memory-limit or reduce receiver.adc_rate")
+    job = _Echoes(scenario, rng, progress)
+    col = job.col
+    units = "shot_noise" if scenario.receiver.noise.enabled else "reflectivity"
+    blank = np.broadcast_to(np.complex64(0), (col.n_pulses, job.t.size))
+    skel = make_raw_dataset(blank, col, job.t, scenario, signal_units=units,
+                            noise=scenario.receiver.noise.enabled).drop_vars("signal")
+    with ChunkedFileWriter(path, skel, "signal", ("slow_time", "fast_time"), (min(blk, 4096), job.t.size),
+                           {"long_name": "dechirped I/Q signal", "units": units}) as w:
+        for a in range(0, col.n_pulses, blk):
+            b = min(col.n_pulses, a + blk)
+            w.write(a, 0, job.block(a, b))
+        for name, (dims, values, attrs) in job.extras().items():
+            w.add(name, dims, values, attrs)
+        return w.close(job.extra_attrs())
