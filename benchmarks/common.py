@@ -19,14 +19,15 @@ def best_of(fn, repeat=3):
     return best, out
 
 
-def spotlight_problem(n_pix: int, n_pulses: int, standoff: float = 4000.0, altitude: float = 3000.0):
-    """A spotlight phase history at 1.55 um with n_pulses pulses, imaged on n_pix x n_pix."""
+def spotlight_problem(n_pix: int, n_pulses: int, standoff: float = 4000.0, altitude: float = 3000.0,
+                      speed: float = 5.0):
+    """A spotlight phase history at 1.55 um with n_pulses pulses, imaged on n_pix x n_pix (a slower
+    platform for many pulses: the PRF stays below 1 / pulse width)."""
     from salkit.focus import phase_history
     from salkit.params import parse_scenario
     from salkit.simulate import simulate
     R = float(np.hypot(standoff, altitude))
     rho = 0.02
-    speed = 5.0
     L = 1.55e-6 * R / (2 * rho)
     prf = n_pulses * speed / L
     sc = parse_scenario({

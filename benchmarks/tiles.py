@@ -20,7 +20,7 @@ sys.path.insert(0, {bench!r})
 from common import spotlight_problem
 from salkit.io import write_dataset
 from salkit.simulate import simulate
-sc, _ = spotlight_problem(2048, {pulses})  # the ADC sized for a 2048-pixel swath: about 1.8 k samples a pulse
+sc, _ = spotlight_problem(2048, {pulses}, speed=1.0)  # the ADC sized for a 2048-pixel swath: 1.8 k samples a pulse
 write_dataset(simulate(sc), {folder!r} + "/raw.nc")
 '''
 

@@ -1,6 +1,8 @@
 """``salkit focus`` on bad files: exit 2, one line, the file named."""
 
 
+import pytest
+
 from .conftest import salkit
 
 
@@ -54,3 +56,33 @@ def test_focus_under_a_memory_limit_runs_in_tiles(tmp_path, scen):
     for args, needle in ((["--workers", "0"], "--workers"), (["--scheduler", "foo"], "tcp://HOST:PORT")):
         r = salkit("focus", raw, "--out", tmp_path / "no", *args)
         assert r.returncode == 2 and needle in r.stderr and not (tmp_path / "no").exists()
+
+
+def test_focus_an_image_larger_than_its_budget_into_a_chunked_file(tmp_path, scen):
+    """An image that cannot be held within --memory-limit is formed tile by tile into the run's
+    image.nc (chunked), equal to the image formed in memory; measured on the window around its
+    brightest pixel, drawn from every k-th pixel; info and verify read the folder; autofocus,
+    which needs the whole image, is refused (exit 2, no folder)."""
+    import json
+
+    import numpy as np
+    from salkit.io import describe, open_dataset
+    raw = tmp_path / "raw.nc"
+    salkit("simulate", scen, "--out", raw)
+    grid = ["--nx", "512", "--ny", "512", "--dx", "0.015", "--dy", "0.015", "--algorithm", "bp"]
+    assert salkit("focus", raw, "--out", tmp_path / "mem", *grid).returncode == 0
+    r = salkit("focus", raw, "--out", tmp_path / "big", *grid, "--memory-limit", "1.5MiB")
+    assert r.returncode == 0, r.stderr
+    a, b = open_dataset(tmp_path / "mem" / "image.nc"), open_dataset(tmp_path / "big" / "image.nc", lazy=True)
+    assert b["image"].encoding["chunksizes"] == (b.attrs["tile_nx"], b.attrs["tile_ny"]) and b.attrs["tiles"] > 1
+    np.testing.assert_array_equal(a["image"].values, b["image"].values)
+    m = json.loads((tmp_path / "big" / "metrics.json").read_text())
+    ma = json.loads((tmp_path / "mem" / "metrics.json").read_text())
+    assert m["image_out_of_core"] == 1
+    for k in ("irw_range_m", "irw_azimuth_m", "peak_amplitude"):
+        assert m[k] == pytest.approx(ma[k], rel=1e-6), k
+    assert (tmp_path / "big" / "image.png").is_file() and (tmp_path / "big" / "report.html").is_file()
+    assert describe(tmp_path / "big" / "image.nc")["image_chunks"] == [b.attrs["tile_nx"], b.attrs["tile_ny"]]
+    assert salkit("verify", tmp_path / "big").returncode == 0
+    r = salkit("focus", raw, "--out", tmp_path / "af", *grid, "--memory-limit", "1.5MiB", "--autofocus", "pga")
+    assert r.returncode == 2 and "--autofocus" in r.stderr and not (tmp_path / "af").exists()

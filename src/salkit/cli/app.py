@@ -72,13 +72,22 @@ def _say(msg: str) -> None:
     err.print(f"[bold red]error:[/] {rich_escape(msg)}", highlight=False, markup=True, soft_wrap=True)
 
 
+def _limited(fn, *a, **k):
+    """Run a command; a --memory-limit it set ends with it (back to --max-memory's limit)."""
+    from ..resources import set_limit
+    try:
+        return fn(*a, **k)
+    finally:
+        set_limit(_STATE.get("max_memory"))
+
+
 def _guard(fn):
     """Exit 2 for bad input and usage, 1 for the environment (permissions, a full disk, memory, a
     busy folder), 130 when interrupted, each with one line; ``--debug`` shows the traceback."""
     @functools.wraps(fn)
     def wrapper(*a, **k):
         try:
-            return fn(*a, **k)
+            return _limited(fn, *a, **k)
         except (typer.Exit, typer.Abort, SystemExit):
             raise
         except SalkitError as e:
@@ -130,7 +139,8 @@ def _main(debug: bool = typer.Option(False, "--debug", help="show tracebacks"),
     _notes()
     from ..resources import parse_size, set_limit
     try:
-        set_limit(parse_size(max_memory) if max_memory is not None else None)
+        _STATE["max_memory"] = parse_size(max_memory) if max_memory is not None else None
+        set_limit(_STATE["max_memory"])
     except SalkitError as e:
         _say(str(e))
         raise typer.Exit(code=2)

@@ -76,7 +76,8 @@ def focus(raw: Path = typer.Argument(..., metavar="RAW", help="raw or phase-hist
     with RunFolder(out_dir, overwrite=overwrite) as tmp:
         with _dask_or_not(workers, scheduler) as client, _Bar() as bar:
             result = focus_file(ds, algorithm=algorithm, window_name=window, grid=grid, progress=bar,
-                                autofocus=autofocus, kernel=kernel, plane=plane, accuracy=accuracy, client=client)
+                                autofocus=autofocus, kernel=kernel, plane=plane, accuracy=accuracy, client=client,
+                                image_file=tmp / "image.nc")  # an image larger than memory goes there tile by tile
         m = write_run(result, tmp, command=_command_line())  # written without the cluster (its file locks)
         if sicd:
             _export_sicd(tmp / "image.nc", tmp / "image.nitf", None)

@@ -15,12 +15,12 @@ Modules: :mod:`~salkit.focus.pipeline` (``focus``, memory estimates, the image d
 from .formers import FORMERS, ImageGrid, ImageResult, get_former, register_former
 from .phasehistory import PhaseHistory, default_grid, phase_history, theory_resolution
 from .pipeline import (HIGH_ACCURACY_UPSAMPLE, PROCESSORS, add_collection_geometry, focus, focus_sal, focus_to_file,
-                       form_image, grid_of, memory_budget, memory_estimate, run_memory_estimate)
+                       form_image, grid_of, image_fits, memory_budget, memory_estimate, run_memory_estimate)
 from .rangecomp import range_compress
 from .._callable import make_callable as _make_callable
 
 __all__ = ["FORMERS", "HIGH_ACCURACY_UPSAMPLE", "ImageGrid", "ImageResult", "PROCESSORS", "PhaseHistory",
-           "add_collection_geometry", "default_grid", "focus", "focus_sal", "focus_to_file", "form_image", "get_former", "grid_of",
+           "add_collection_geometry", "default_grid", "focus", "focus_sal", "focus_to_file", "form_image", "get_former", "grid_of", "image_fits",
            "memory_budget", "memory_estimate", "phase_history", "range_compress", "register_former", "run_memory_estimate",
            "theory_resolution"]
 

@@ -261,6 +261,41 @@ def _result_attrs(info: dict, used: dict, tiling) -> dict:
     return attrs
 
 
+def image_fits(raw: xr.Dataset, processing: Optional[Processing] = None, *, grid: Grid | None = None,
+               algorithm: str | None = None, memory_limit: float | str | None = None) -> bool:
+    """Whether :func:`focus` can hold the whole image of ``raw`` in memory within the budget (in
+    tiles if need be); when not, :func:`focus_to_file` writes it tile by tile.
+
+    Parameters
+    ----------
+    raw : xarray.Dataset
+    processing : Processing, optional
+    grid : Grid, optional
+    algorithm : str, optional
+    memory_limit : int, float or str, optional
+        As :func:`focus`.
+
+    Returns
+    -------
+    bool
+    """
+    scenario = stored_scenario(raw.attrs)
+    proc = processing or (scenario.processing if isinstance(scenario, Scenario) else None)
+    g = grid or (proc.grid if proc is not None else None)
+    if g is None:
+        return True  # the default grid, 256 x 256
+    alg = algorithm or (proc.algorithm if proc is not None else "bp")
+    P, N = raw["signal"].shape
+    held = float(raw["signal"].nbytes) if getattr(raw["signal"].variable, "_in_memory", True) else 0.0
+    stripmap = str(raw.attrs.get("mode", "spotlight")) == "stripmap" and float(raw.attrs.get("real_aperture", 0)) > 0
+    try:
+        plan_tiling(P, N, g.nx, g.ny, alg, memory_budget(memory_limit, held), raw=raw.attrs.get("salkit_kind") == "raw",
+                    stripmap=stripmap)
+    except ResourceError:
+        return False
+    return True
+
+
 def focus_to_file(raw: xr.Dataset, path, processing: Optional[Processing] = None, **options) -> xr.Dataset:
     """Form an image straight into a chunked NetCDF file, tile by tile, never whole in memory: for
     images larger than the memory budget (:class:`salkit.io.ImageFileWriter`; the file is complete

@@ -211,6 +211,63 @@ def lazy_reads(name: str = "signal"):
                             f"corrupted ({e})") from None
 
 
+def brightest_window(image: xr.Dataset, half: int = 128, block: int = 4096) -> xr.Dataset:
+    """The window of ``image`` centred on its brightest pixel, found a block at a time: an image
+    larger than memory (opened lazily) is read once, one block in memory at a time.
+
+    Parameters
+    ----------
+    image : xarray.Dataset
+        A salkit image (``image`` (azimuth, range)).
+    half : int
+        Half the window's side, pixels.
+    block : int
+        Rows read at a time.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``image.isel(...)`` of at most (2 half) x (2 half) pixels, loaded, with the image's
+        attributes and coordinates.
+    """
+    v = image["image"]
+    nx, ny = v.shape
+    best, at = -1.0, (0, 0)
+    with lazy_reads("image"):
+        for a in range(0, nx, block):
+            mag = np.abs(np.asarray(v[a:a + block].values))
+            k = int(np.argmax(mag))
+            if mag.flat[k] > best:
+                best, at = float(mag.flat[k]), (a + k // ny, k % ny)
+    i0, j0 = max(0, at[0] - half), max(0, at[1] - half)
+    sub = image.isel(azimuth=slice(i0, min(nx, at[0] + half)), range=slice(j0, min(ny, at[1] + half)))
+    return sub.drop_vars([n for n in ("collection_position", "collection_time") if n in sub]).load()
+
+
+def preview(image: xr.Dataset, max_pixels: int = 2048) -> xr.Dataset:
+    """Every k-th pixel of ``image`` in each direction, at most ``max_pixels`` a side, for a figure
+    of an image larger than memory (the ``preview_step`` attribute says k).
+
+    Parameters
+    ----------
+    image : xarray.Dataset
+    max_pixels : int
+
+    Returns
+    -------
+    xarray.Dataset
+        Loaded; the image itself when it is small enough.
+    """
+    k = max(1, -(-max(image.sizes["azimuth"], image.sizes["range"]) // max_pixels))
+    if k == 1:
+        return image
+    with lazy_reads("image"):
+        small = image[["image"] + [n for n in ("target_azimuth", "target_range") if n in image]].isel(
+            azimuth=slice(None, None, k), range=slice(None, None, k)).load()
+    small.attrs["preview_step"] = k
+    return small
+
+
 class ChunkedFileWriter:
     """One large variable written block by block into a chunked NetCDF4/HDF5 file, never whole in
     memory (an image tile by tile, a raw signal a block of pulses at a time).

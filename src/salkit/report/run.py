@@ -37,6 +37,9 @@ def write_run(result: RunResult, out_dir: str | Path, *, command: str | None = N
     if not (scen.is_file() and scen.read_text() == result.scenario_text):  # run_scenario wrote it first
         write_text_atomic(scen, result.scenario_text)
     for name, ds in result.datasets.items():
+        src = ds.encoding.get("source")
+        if src and Path(src).resolve() == (out / name).resolve():
+            continue  # written tile by tile where it belongs (an image larger than memory)
         write_dataset(ds, out / name)
     for name, text in result.tables.items():
         write_text_atomic(out / name, text)

@@ -11,7 +11,9 @@ import time
 import numpy as np
 import xarray as xr
 
-from ..focus import focus
+from ..errors import ScenarioError
+from ..focus import focus, focus_to_file, image_fits
+from ..io.datasets import brightest_window, preview
 from ..geometry.collection import build_collection
 from ..geometry.sampling import check_sampling
 from ..metrics import measure, snr_against_truth
@@ -261,7 +263,7 @@ def focus_and_autofocus(raw: xr.Dataset, scenario: Scenario | None, data: dict, 
 
 
 def focus_file(raw: xr.Dataset, processing: Processing | None = None, progress: Progress = None,
-               autofocus: str | None = None, kernel: str | None = None, **options) -> RunResult:
+               autofocus: str | None = None, kernel: str | None = None, image_file=None, **options) -> RunResult:
     """Focus an existing raw file (with the scenario it carries, if any) and measure the image.
 
     Parameters
@@ -272,8 +274,14 @@ def focus_file(raw: xr.Dataset, processing: Processing | None = None, progress: 
     progress : callable, optional
     autofocus : {"none", "pga", "min-entropy", "pulse"}, optional
     kernel : {"pd", "lumv", "ev"}, optional
+    image_file : path, optional
+        Where ``image.nc`` will be written: an image larger than the memory budget
+        (:func:`salkit.focus.image_fits`) is formed tile by tile straight into it
+        (:func:`salkit.focus.focus_to_file`), measured on the window around its brightest pixel and
+        drawn from every k-th pixel; it cannot then be autofocused.
     **options
-        ``algorithm``, ``window_name``, ``grid``, ``plane`` for :func:`salkit.focus.focus`.
+        ``algorithm``, ``window_name``, ``grid``, ``plane``, ``accuracy``, ``memory_limit``,
+        ``client`` for :func:`salkit.focus.focus`.
 
     Returns
     -------
@@ -284,6 +292,23 @@ def focus_file(raw: xr.Dataset, processing: Processing | None = None, progress: 
         scenario = None
     t0 = time.perf_counter()
     data: dict = {}
+    if image_file is not None and not image_fits(raw, processing, grid=options.get("grid"),
+                                                 algorithm=options.get("algorithm"),
+                                                 memory_limit=options.get("memory_limit")):
+        if autofocus not in (None, "none"):
+            raise ScenarioError("--autofocus", autofocus, "needs the whole image in memory; this image is larger "
+                                "than the budget and is formed tile by tile into its file (raise --memory-limit)")
+        image = focus_to_file(raw, image_file, processing, scenario=scenario, progress=stage(progress, "tiles formed"),
+                              **options)
+        data["image.nc"] = image
+        t_focus = time.perf_counter() - t0
+        metrics, details = analyse_image(brightest_window(image), scenario)
+        metrics.update(focus_s=t_focus, image_out_of_core=1)
+        return RunResult("airborne", scenario.name if scenario else "external data",
+                         scenario.description if scenario else "",
+                         raw.attrs.get("scenario", "# no scenario stored in the raw file\n"), metrics, data,
+                         figures={"details": details, "autofocus": None, "timings": {"focus_s": t_focus},
+                                  "image_preview": preview(image)})
     image, af_metrics, af_res = focus_and_autofocus(raw, scenario, data, processing, progress, autofocus, kernel,
                                                     **options)
     t_focus = time.perf_counter() - t0
