@@ -10,6 +10,7 @@ handling. Each command imports the library inside itself, so ``salkit --help`` l
 """
 from __future__ import annotations
 
+import os
 import sys
 
 from . import data, inspection, runs, studies, turbulence
@@ -48,6 +49,12 @@ def main():  # pragma: no cover
         return app()
     except KeyboardInterrupt:  # an interrupt that escaped the command (e.g. while it was exiting):
         sys.exit(130)          # the run folder is already discarded; exit as interrupted, not by SIGINT
+    finally:
+        from ..io.runfolder import INTERRUPTED
+        if INTERRUPTED["signal"] is not None:  # the command has cleaned up; leave now, with 130, rather
+            sys.stdout.flush()                 # than run finalisers the interrupt may have cut short
+            sys.stderr.flush()                 # (numba compiling): one of them re-raising it would
+            os._exit(130)                      # end the process by SIGINT instead
 
 
 def _unraisable(u):  # pragma: no cover - exercised by the signal tests

@@ -21,7 +21,6 @@ import os
 import numpy as np
 from numba import get_num_threads, njit, prange
 
-from ..constants import SPEED_OF_LIGHT
 from ..errors import ScenarioError
 from ..geometry.ranges import differential_range, range_offsets
 from ..signals.windows import Window

@@ -155,12 +155,8 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
     g0 = grid or (processing.grid if processing else None)
     P, N = raw["signal"].shape
     chirp = processing.chirp_correction if processing is not None else "none"
-    stripmap = str(raw.attrs.get("mode", "spotlight")) == "stripmap" and float(raw.attrs.get("real_aperture", 0)) > 0
-    held = float(raw["signal"].nbytes) if getattr(raw["signal"].variable, "_in_memory", True) else 0.0  # lazily opened: not held
     spread = _spread(client)
-    tiling = plan_tiling(P, N, g0.nx if g0 else 256, g0.ny if g0 else 256, alg, memory_budget(memory_limit, held),
-                         raw=raw.attrs.get("salkit_kind") == "raw", stripmap=stripmap, hold_image=out is None,
-                         **spread)
+    tiling, held = _plan(raw, alg, g0.nx if g0 else 256, g0.ny if g0 else 256, memory_limit, out is None, spread)
     if tiling.pulse_block < P:  # the signal is read and range-compressed a block at a time
         pulses = DatasetPulses(raw, chirp)
         ph = pulses.geometry()
@@ -181,10 +177,8 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
         raise ScenarioError("processing.grid", f"dx={g.dx:g}, dy={g.dy:g}",
                             f"spacing must not exceed the resolution (azimuth {res['azimuth']:.4g} m, "
                             f"range {res['range']:.4g} m)")
-    kind_raw = raw.attrs.get("salkit_kind") == "raw"
     if (g.nx, g.ny) != (tiling.nx, tiling.ny):
-        tiling = plan_tiling(P, N, g.nx, g.ny, alg, tiling.budget, raw=kind_raw, stripmap=stripmap,
-                             hold_image=out is None, **spread)
+        tiling, _ = _plan(raw, alg, g.nx, g.ny, memory_limit, out is None, spread)
     if tiling.tiled:
         _log.info("focusing %s", tiling.describe())
         if hasattr(progress, "renamed"):  # a stage of a run's progress: its unit is now the tile
@@ -211,6 +205,17 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
     attrs.update(_result_attrs(result.info, used, tiling))
     image = make_image_dataset(result.image, ig.azimuth, ig.range, ig.plane, attrs, truth)
     return add_collection_geometry(image, raw, ph)
+
+
+def _plan(raw: xr.Dataset, alg: str, nx: int, ny: int, memory_limit, hold_image: bool, spread: dict):
+    """The tiling of focusing ``raw`` onto nx x ny (:func:`salkit.focus.tiles.plan_tiling`) within
+    the budget, counting the signal as held when it is in memory; and the bytes held."""
+    P, N = raw["signal"].shape
+    held = float(raw["signal"].nbytes) if getattr(raw["signal"].variable, "_in_memory", True) else 0.0  # lazily opened: not held
+    stripmap = str(raw.attrs.get("mode", "spotlight")) == "stripmap" and float(raw.attrs.get("real_aperture", 0)) > 0
+    tiling = plan_tiling(P, N, nx, ny, alg, memory_budget(memory_limit, held), raw=raw.attrs.get("salkit_kind") == "raw",
+                         stripmap=stripmap, hold_image=hold_image, **spread)
+    return tiling, held
 
 
 def _spread(client) -> dict:
@@ -285,12 +290,8 @@ def image_fits(raw: xr.Dataset, processing: Optional[Processing] = None, *, grid
     if g is None:
         return True  # the default grid, 256 x 256
     alg = algorithm or (proc.algorithm if proc is not None else "bp")
-    P, N = raw["signal"].shape
-    held = float(raw["signal"].nbytes) if getattr(raw["signal"].variable, "_in_memory", True) else 0.0
-    stripmap = str(raw.attrs.get("mode", "spotlight")) == "stripmap" and float(raw.attrs.get("real_aperture", 0)) > 0
     try:
-        plan_tiling(P, N, g.nx, g.ny, alg, memory_budget(memory_limit, held), raw=raw.attrs.get("salkit_kind") == "raw",
-                    stripmap=stripmap)
+        _plan(raw, alg, g.nx, g.ny, memory_limit, True, {})
     except ResourceError:
         return False
     return True

@@ -20,7 +20,6 @@ import numpy as np
 import xarray as xr
 from numba import njit, prange
 
-from ..constants import SPEED_OF_LIGHT
 from ..errors import ScenarioError
 from ..geometry.ranges import differential_range, range_offsets
 

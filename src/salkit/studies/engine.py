@@ -194,6 +194,32 @@ def execute(plan: SweepPlan, invalid: dict, runner: Callable[..., dict], *, clie
     return ds
 
 
+def require_ok(ds: xr.Dataset, what: str) -> xr.Dataset:
+    """A system's own loop needs every point: the first failure's reason raised, naming the loop.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        From :func:`execute`.
+    what : str
+        The loop, for the message.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``ds``.
+
+    Raises
+    ------
+    SalkitError
+        When a point is not "ok".
+    """
+    bad = sorted({str(v) for v in ds["status"].values if v != "ok"})
+    if bad:
+        raise SalkitError(f"{what}: {bad[0]}")
+    return ds
+
+
 def assemble(plan: SweepPlan, invalid: dict, records: dict) -> xr.Dataset:
     """The sweep's dataset: one variable per metric (float64, NaN where a run has none), dims the
     varied fields (``point`` when zipped) and ``realisation``; ``status`` per point ("ok", or why

@@ -25,14 +25,13 @@ from ..io.datasets import make_image_dataset
 from ..metrics import measure, split_snr, stack_snr
 from ..metrics.pointtarget import ipr_1d
 from ..params.models import Scenario
-from ..errors import SalkitError
 from ..params.scenario import dump_scenario, parse_scenario
 from ..resources import check_memory
 from ..simulate import signal_scale, simulate
 from ..simulate.scene import pattern_mask
 from ..stack import (coherent_resolution, coherent_stack, geo_base, nearest_squints, point_target, run_stack,
                      stack_memory_estimate, subimage, uncorrect)
-from ..studies.engine import execute
+from ..studies.engine import execute, require_ok
 from ..studies.plan import check_points, make_plan
 from ..studies.spec import Axis
 from .result import Progress, RunResult, stage
@@ -127,9 +126,7 @@ def squint_sweep(scenario: Scenario, squints, runner, metrics=()):
     plan = make_plan(base, [axis], metrics=metrics)
     payloads = {}
     ds = execute(plan, check_points(plan), runner, collect=payloads)
-    bad = {str(v) for v in ds["status"].values if v != "ok"}
-    if bad:
-        raise SalkitError(f"squint sweep: {sorted(bad)[0]}")
+    require_ok(ds, "squint sweep")
     return ds, {i: payloads[(i, 0)] for i in range(plan.n_points)}
 
 

@@ -22,11 +22,10 @@ from ..geometry.collection import build_collection
 from ..geometry.sampling import check_sampling
 from ..metrics import measure
 from ..params.models import Atmosphere, PointTarget, Scenario, Scene
-from ..errors import SalkitError
 from ..params.scenario import dump_scenario, parse_scenario
 from ..simulate import screen_size, simulate, turbulent_path
 from ..simulate.scene import pattern_mask
-from ..studies.engine import execute
+from ..studies.engine import execute, require_ok
 from ..studies.plan import check_points, make_plan
 from ..studies.spec import Axis
 from .result import Progress, RunResult
@@ -334,9 +333,7 @@ def class_sweep(scenario: Scenario, i_pts, wave: bool, progress: Progress = None
     tick = (lambda d, n: progress("classes of turbulence", d, n)) if progress else None
     ds = execute(plan, check_points(plan), functools.partial(class_point, i_pts=tuple(i_pts), wave=wave),
                  progress=tick, collect=payloads)
-    bad = {str(v) for v in ds["status"].values if v != "ok"}
-    if bad:
-        raise SalkitError(f"turbulence classes: {sorted(bad)[0]}")
+    require_ok(ds, "turbulence classes")
     return ds, [payloads[(i, 0)] for i in range(plan.n_points)]
 
 
