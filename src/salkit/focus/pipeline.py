@@ -267,7 +267,7 @@ def _result_attrs(info: dict, used: dict, tiling) -> dict:
 
 
 def image_fits(raw: xr.Dataset, processing: Optional[Processing] = None, *, grid: Grid | None = None,
-               algorithm: str | None = None, memory_limit: float | str | None = None) -> bool:
+               algorithm: str | None = None, memory_limit: float | str | None = None, client=None) -> bool:
     """Whether :func:`focus` can hold the whole image of ``raw`` in memory within the budget (in
     tiles if need be); when not, :func:`focus_to_file` writes it tile by tile.
 
@@ -278,7 +278,8 @@ def image_fits(raw: xr.Dataset, processing: Optional[Processing] = None, *, grid
     grid : Grid, optional
     algorithm : str, optional
     memory_limit : int, float or str, optional
-        As :func:`focus`.
+    client : dask.distributed.Client, optional
+        As :func:`focus` (a local cluster's tiles share the budget).
 
     Returns
     -------
@@ -291,7 +292,7 @@ def image_fits(raw: xr.Dataset, processing: Optional[Processing] = None, *, grid
         return True  # the default grid, 256 x 256
     alg = algorithm or (proc.algorithm if proc is not None else "bp")
     try:
-        _plan(raw, alg, g.nx, g.ny, memory_limit, True, {})
+        _plan(raw, alg, g.nx, g.ny, memory_limit, True, _spread(client))
     except ResourceError:
         return False
     return True

@@ -294,7 +294,8 @@ def focus_file(raw: xr.Dataset, processing: Processing | None = None, progress: 
     data: dict = {}
     if image_file is not None and not image_fits(raw, processing, grid=options.get("grid"),
                                                  algorithm=options.get("algorithm"),
-                                                 memory_limit=options.get("memory_limit")):
+                                                 memory_limit=options.get("memory_limit"),
+                                                 client=options.get("client")):
         if autofocus not in (None, "none"):
             raise ScenarioError("--autofocus", autofocus, "needs the whole image in memory; this image is larger "
                                 "than the budget and is formed tile by tile into its file (raise --memory-limit)")
