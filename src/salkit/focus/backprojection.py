@@ -264,6 +264,37 @@ def range_profiles(ph: np.ndarray, freq: np.ndarray, upsample: int, range_window
     return prof.astype(np.complex64, copy=False), r0, dr, float(freq[M // 2])
 
 
+#: Bytes of one kernel call's range profiles (the upsampled FFT buffer and its packed copy): long
+#: pulses (many samples, high upsampling) go through in fewer pulses a call.
+PROFILE_BYTES = 128 * 2 ** 20
+
+
+def profile_block(n_samples: int, upsample: int, block: int = 32) -> int:
+    """Pulses a kernel call of :func:`backproject`: ``block``, halved (a power of two dividing it)
+    until the call's range profiles fit :data:`PROFILE_BYTES`.
+
+    Parameters
+    ----------
+    n_samples : int
+        Frequencies a pulse.
+    upsample : int
+    block : int
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> profile_block(2000, 16), profile_block(655360, 16)
+    (32, 1)
+    """
+    per_pulse = 2 * 8.0 * sfft.next_fast_len(int(n_samples * upsample))
+    while block > 1 and block * per_pulse > PROFILE_BYTES:
+        block //= 2
+    return block
+
+
 def backproject(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.ndarray,
                 row_origin: np.ndarray, rdir: np.ndarray, rg: np.ndarray, weight: np.ndarray,
                 range_window: np.ndarray, upsample: int = BP_UPSAMPLE, block: int = 32,
@@ -292,7 +323,7 @@ def backproject(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_ran
     upsample : int
         Range-profile upsampling (linear interpolation in between).
     block : int
-        Pulses per kernel call.
+        Pulses per kernel call, at most (:func:`profile_block` lowers it for long pulses).
     linear_compensation : bool
         Pre-compensate the mean attenuation of linear interpolation (:func:`linear_interp_gain`).
     out : (float32 (nx, ny), float32 (nx, ny)), optional
@@ -305,6 +336,7 @@ def backproject(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_ran
     complex (nx, ny), not normalised.
     """
     nx, ny = row_origin.shape[0], rg.size
+    block = profile_block(ph.shape[1], upsample, block)
     if out is None:
         img_re = np.zeros((nx, ny), np.float32)
         img_im = np.zeros((nx, ny), np.float32)

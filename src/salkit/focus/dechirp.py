@@ -16,8 +16,13 @@ from ..constants import FFT_WORKERS
 WORKERS = FFT_WORKERS
 
 
+#: Bytes of the 2N-point buffers of one pass of :func:`deskew` (its pulses go through in passes).
+DESKEW_BYTES = 16 * 2 ** 20
+
+
 def deskew(signal: np.ndarray, adc_rate: float, chirp_rate: float) -> np.ndarray:
-    """RVP removal and deskew of dechirped samples (P, N), fast time centred at index N//2.
+    """RVP removal and deskew of dechirped samples (P, N), fast time centred at index N//2, a pass
+    of pulses at a time (:data:`DESKEW_BYTES` of buffers).
 
     Parameters
     ----------
@@ -33,15 +38,20 @@ def deskew(signal: np.ndarray, adc_rate: float, chirp_rate: float) -> np.ndarray
     """
     P, N = signal.shape
     n2 = sfft.next_fast_len(2 * N)
-    buf = np.zeros((P, n2), np.complex64)
     # place sample i (time (i - N//2)/fs) at index (i - N//2) mod n2
     idx = (np.arange(N) - N // 2) % n2
-    buf[:, idx] = signal
-    spec = sfft.fft(buf, axis=1, workers=WORKERS)
     f = sfft.fftfreq(n2, 1.0 / adc_rate)
-    spec *= np.exp(-1j * np.pi * f ** 2 / chirp_rate).astype(np.complex64)
-    out = sfft.ifft(spec, axis=1, workers=WORKERS)
-    return out[:, idx].astype(np.complex64)
+    ramp = np.exp(-1j * np.pi * f ** 2 / chirp_rate).astype(np.complex64)
+    out = np.empty((P, N), np.complex64)
+    rows = max(1, int(DESKEW_BYTES // (8 * n2)))  # pulses a pass: the 2N-point buffers stay small
+    for a in range(0, P, rows):
+        b = min(P, a + rows)
+        buf = np.zeros((b - a, n2), np.complex64)
+        buf[:, idx] = signal[a:b]
+        spec = sfft.fft(buf, axis=1, workers=WORKERS)
+        spec *= ramp
+        out[a:b] = sfft.ifft(spec, axis=1, workers=WORKERS)[:, idx]
+    return out
 
 
 def analytic(signal: np.ndarray, sideband: str = "negative") -> np.ndarray:

@@ -22,13 +22,15 @@ from typing import Callable, Optional
 
 import lazy_loader as _lazy
 import numpy as np
+import scipy.fft as sfft
 
 from ..errors import DataFileError, ResourceError, ScenarioError
 from ..io.datasets import lazy_reads
 from ..io.formats import read_phase_data
 from ..resources import size_text as gib
 from ..signals.windows import Window
-from .backprojection import backproject
+from ..tolerances import BP_UPSAMPLE
+from .backprojection import backproject, profile_block
 from .formers import ImageGrid, get_former
 from .phasehistory import PhaseHistory, phase_history
 
@@ -52,7 +54,8 @@ def memory_estimate(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: 
     buffers and the phase history (6 more); the image's float32 accumulators and complex64 output
     (24 bytes a pixel); PFA adds its formed (cover) grid and K-space buffer, omega-k its
     Stolt-interpolated spectrum, FFBP its two buffers of polar grids (each up to 3 times the
-    pixels, complex64: margins and padding) and its range profiles (about twice the signal).
+    pixels, complex64: margins and padding) and its range profiles (about twice the signal), bp
+    one kernel call's upsampled range profiles (:func:`~salkit.focus.backprojection.profile_block`).
 
     Parameters
     ----------
@@ -74,6 +77,8 @@ def memory_estimate(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: 
     sig = 8.0 * n_pulses * n_samples
     px = float(nx) * ny
     need = sig * (7 if raw else 2) + 24.0 * px
+    if algorithm == "bp":  # one kernel call's upsampled range profiles (bounded by the call's pulses)
+        need += profile_block(n_samples, BP_UPSAMPLE) * 2 * 8.0 * sfft.next_fast_len(int(n_samples * BP_UPSAMPLE))
     if algorithm == "pfa":
         need += 24.0 * max(cover_pixels or 0, px) + sig
     elif algorithm == "omegak":

@@ -361,6 +361,10 @@ class ChunkedFileWriter:
             self.discard()
 
 
+#: Largest chunk side of an image written tile by tile, pixels (8 MiB of complex64).
+IMAGE_CHUNK = 1024
+
+
 class ImageFileWriter(ChunkedFileWriter):
     """An image written tile by tile (:class:`ChunkedFileWriter` of ``image`` (azimuth, range)).
 
@@ -370,11 +374,12 @@ class ImageFileWriter(ChunkedFileWriter):
     template : xarray.Dataset
         The image dataset without ``image``.
     chunks : (int, int)
-        A tile, pixels.
+        A tile, pixels: the chunks are the tile, or :data:`IMAGE_CHUNK` a side if smaller.
     """
 
     def __init__(self, path, template: xr.Dataset, chunks):
-        super().__init__(path, template, "image", ("azimuth", "range"), chunks,
+        ch = tuple(min(int(c), IMAGE_CHUNK) for c in chunks)  # a window reads little more than itself
+        super().__init__(path, template, "image", ("azimuth", "range"), ch,
                          {"long_name": "focused complex image", "units": "1"})
 
 

@@ -147,8 +147,8 @@ NOISE_BLOCK = 512
 def simulate_to_file(scenario: Scenario, path, memory_limit: float | None = None, progress: ProgressFn = None):
     """Simulate the raw data of a SAL scenario straight into a NetCDF file, a block of pulses at a
     time, for histories larger than memory: the same numbers as :func:`simulate_sal` (the random
-    numbers are drawn in the same order), written as a chunked file (one chunk a block;
-    :class:`salkit.io.ChunkedFileWriter`, complete or absent).
+    numbers are drawn in the same order), written as a chunked file (chunks of about 8 MiB of
+    pulses; :class:`salkit.io.ChunkedFileWriter`, complete or absent).
 
     Parameters
     ----------
@@ -167,16 +167,17 @@ def simulate_to_file(scenario: Scenario, path, memory_limit: float | None = None
     Raises
     ------
     ResourceError
-        When one block of 512 pulses, or the scene, does not fit.
+        When one block (512 pulses with noise, one without), or the scene, does not fit.
     """
     rng = np.random.default_rng(scenario.seed)
     budget = float(memory_limit) if memory_limit is not None else available_memory() / 8.0
     P, N = signal_shape(scenario)
     per_pulse = 3 * 8.0 * N  # the block, its float32 parts in the kernels, the noise draw
-    blk = P if per_pulse * P <= budget else int(budget // (per_pulse * NOISE_BLOCK)) * NOISE_BLOCK
-    if blk < min(NOISE_BLOCK, P):
-        raise ResourceError(f"simulating {P} pulses x {N} samples in blocks: one block of {min(NOISE_BLOCK, P)} pulses "
-                            f"needs about {size_text(per_pulse * min(NOISE_BLOCK, P))}, more than the {size_text(budget)} "
+    unit = NOISE_BLOCK if scenario.receiver.noise.enabled else 1  # without noise no draw to keep in step
+    blk = P if per_pulse * P <= budget else int(budget // (per_pulse * unit)) * unit
+    if blk < min(unit, P):
+        raise ResourceError(f"simulating {P} pulses x {N} samples in blocks: one block of {min(unit, P)} pulses "
+                            f"needs about {size_text(per_pulse * min(unit, P))}, more than the {size_text(budget)} "
                             "available (the budget); raise --memory-limit or reduce receiver.adc_rate")
     job = _Echoes(scenario, rng, progress)
     col = job.col
@@ -184,7 +185,8 @@ def simulate_to_file(scenario: Scenario, path, memory_limit: float | None = None
     blank = np.broadcast_to(np.complex64(0), (col.n_pulses, job.t.size))
     skel = make_raw_dataset(blank, col, job.t, scenario, signal_units=units,
                             noise=scenario.receiver.noise.enabled).drop_vars("signal")
-    with ChunkedFileWriter(path, skel, "signal", ("slow_time", "fast_time"), (min(blk, 4096), job.t.size),
+    rows = max(1, min(blk, (8 * 2 ** 20) // (8 * job.t.size)))  # chunks of about 8 MiB: a block reads only itself
+    with ChunkedFileWriter(path, skel, "signal", ("slow_time", "fast_time"), (rows, job.t.size),
                            {"long_name": "dechirped I/Q signal", "units": units}) as w:
         for a in range(0, col.n_pulses, blk):
             b = min(col.n_pulses, a + blk)
