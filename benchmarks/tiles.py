@@ -163,7 +163,7 @@ def bench_big_history(swath: int = 728_000, pulses: int = 4096, n_pix: int = 409
     """A history larger than memory (about 20 GiB: 4096 pulses x 655 k samples) simulated into a
     file a block at a time (one process), then focused onto n_pix^2 by direct BP in pulse blocks
     read from the file, under ``limit`` (another process, its peak resident memory measured)."""
-    with tempfile.TemporaryDirectory(prefix="salkit-bench-big-", dir=str(Path(__file__).resolve().parents[1])) as d:
+    with tempfile.TemporaryDirectory(prefix="salkit-bench-big-") as d:
         fill = dict(bench=str(Path(__file__).parent), swath=swath, pulses=pulses, n_pix=n_pix, limit=limit, folder=d)
         r = subprocess.run([sys.executable, "-c", BIG_SIMULATE.format(**fill)], capture_output=True, text=True, check=True)
         sim = json.loads(r.stdout.strip().splitlines()[-1])
