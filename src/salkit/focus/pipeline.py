@@ -90,7 +90,7 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=
     memory_limit : int, float or str, optional
         Memory budget, bytes or a size such as ``"512MiB"`` (default, and at most: the memory
         available, :func:`salkit.resources.available_memory`). A job whose estimate exceeds it is
-        formed in tiles of the output grid (bp and ffbp) and, for bp of spotlight data, with its
+        formed in tiles of the output grid (bp and ffbp) and, for spotlight data, with its
         pulses in blocks read from ``raw`` as needed (``raw`` may be opened lazily from a file);
         the image's ``tiling`` attribute says how (:mod:`salkit.focus.tiles`).
     client : dask.distributed.Client, optional

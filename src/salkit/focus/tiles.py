@@ -1,4 +1,4 @@
-"""Image formation under a memory budget: the output grid in tiles and, for direct backprojection
+"""Image formation under a memory budget: the output grid in tiles and, for backprojection and FFBP
 of spotlight data, the pulses in blocks, each sized to fit.
 
 :func:`plan_tiling` turns the sizes of a job and a budget (bytes) into a :class:`Tiling`: the whole
@@ -11,7 +11,8 @@ needed) and hands each finished tile to a sink (an array in memory, or a chunked
 
 Tiles are independent images of sub-grids, so a tiled image is the untiled one: backprojection
 pixel for pixel (pulse blocks accumulate into the same float32 accumulators, kernel call for kernel
-call), FFBP to its own accuracy (each tile's polar grids are sized for the tile).
+call), FFBP to its own accuracy (each tile's polar grids are sized for the tile; pulse blocks are
+FFBP images of their pulses, added: FFBP is linear in the data).
 """
 from __future__ import annotations
 
@@ -31,6 +32,7 @@ from ..resources import size_text as gib
 from ..signals.windows import Window
 from ..tolerances import BP_UPSAMPLE
 from .backprojection import backproject, profile_block
+from .ffbp import ACCURATE, ffbp
 from .formers import ImageGrid, get_former
 from .phasehistory import PhaseHistory, phase_history
 
@@ -42,6 +44,8 @@ TILEABLE = ("bp", "ffbp")
 MIN_TILE = 32
 #: Smallest pulse block (a multiple of backprojection's kernel block of 32 pulses).
 MIN_BLOCK = 64
+#: Pixels each side by which an FFBP tile is formed larger than it is kept (its edge error cropped off).
+FFBP_OVERLAP = 16
 #: Pulses per kernel call of :func:`salkit.focus.backprojection.backproject` (blocks are multiples).
 KERNEL_BLOCK = 32
 
@@ -171,7 +175,8 @@ def plan_tiling(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str,
     raw : bool
         Dechirped fast-time data (range-compressed here) rather than a phase history.
     stripmap : bool
-        Stripmap data (backprojection equalises the beam over all pulses: no pulse blocks).
+        Stripmap data (backprojection equalises the beam over all pulses: no pulse blocks; FFBP is
+        for spotlight data).
     hold_image : bool
         The whole image is assembled in memory (8 bytes a pixel more once tiled); False when the
         tiles go to a file.
@@ -191,8 +196,9 @@ def plan_tiling(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str,
         the smallest size does not fit: the message names the memory and the budget.
     """
     def need(tx, ty, pb):
-        est = memory_estimate(pb, n_samples, tx, ty, algorithm, raw=raw)[0] * max(at_once, 1)
         cut = (tx, ty, pb) != (nx, ny, n_pulses)
+        m = 2 * FFBP_OVERLAP if (algorithm == "ffbp" and cut) else 0  # the overlap an FFBP tile is formed with
+        est = memory_estimate(pb, n_samples, min(nx, tx + m), min(ny, ty + m), algorithm, raw=raw)[0] * max(at_once, 1)
         return est + (8.0 * nx * ny if (cut and hold_image) else 0.0)
 
     def count(tx, ty):
@@ -210,7 +216,7 @@ def plan_tiling(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str,
         raise ResourceError(f"{what} needs about {gib(est)} of memory, more than the {gib(budget)} available "
                             f"(the budget); {algorithm} cannot run in tiles: use --algorithm bp or ffbp, a smaller "
                             "grid or fewer pulses")
-    blockable = algorithm == "bp" and not stripmap
+    blockable = algorithm in ("bp", "ffbp") and not stripmap
     while est > budget:
         options = []
         if max(tx, ty) > MIN_TILE:
@@ -371,9 +377,28 @@ def _bp_blocks(pulses, tig: ImageGrid, window: Window, blocks, upsample: int) ->
     return ((re + 1j * im) / norm[:, None]).astype(np.complex64)
 
 
+def _ffbp_blocks(pulses, tig: ImageGrid, window: Window, blocks, accuracy: str) -> tuple[np.ndarray, dict]:
+    """Spotlight FFBP of one tile, a pulse block at a time: each block's image (its own tree, the
+    collection's window over its pulses) added up and normalised as
+    :func:`salkit.focus.ffbp.form_ffbp` over all the pulses (FFBP is linear in the data)."""
+    P = pulses.n_pulses
+    wa = window(P)
+    knobs = ACCURATE if accuracy == "high" else {}
+    img, info, wr = None, {}, None
+    for a, b in blocks:
+        ph = pulses.block(a, b)
+        if wr is None:
+            wr = window(ph.freq.size)
+        part, info = ffbp(ph.data, ph.freq, ph.positions, ph.reference_range, tig, wa[a:b], wr, **knobs)
+        img = part if img is None else img + part
+    norm = max(float(wa.sum()), 1e-30) * float(wr.sum())
+    info.update({"support_azimuth": P, "support_range": int(wr.size)})
+    return (img / norm).astype(np.complex64), info
+
+
 def form_tile(pulses, tig: ImageGrid, window: Window, tiling: Tiling, upsample: int, accuracy: str):
-    """One tile's image: backprojected a pulse block at a time (spotlight ``bp``), else the former
-    on the whole phase history.
+    """One tile's image: backprojected (spotlight ``bp``) or formed by FFBP a pulse block at a time
+    when the pulses are in blocks, else the former on the whole phase history.
 
     Parameters
     ----------
@@ -394,15 +419,44 @@ def form_tile(pulses, tig: ImageGrid, window: Window, tiling: Tiling, upsample: 
     if tiling.algorithm == "bp" and not (probe.mode == "stripmap" and probe.real_aperture > 0):
         return (_bp_blocks(pulses, tig, window, tiling.blocks, upsample),
                 {"support_azimuth": tiling.pulses, "support_range": probe.freq.size})
+    if tiling.algorithm == "ffbp" and tiling.pulse_block < tiling.pulses:
+        return _ffbp_blocks(pulses, tig, window, tiling.blocks, accuracy)
     res = get_former(tiling.algorithm)(pulses.whole(), tig, window, upsample=upsample, accuracy=accuracy)
     return res.image, res.info
+
+
+def tile_image(pulses, ig: ImageGrid, window: Window, tiling: Tiling, box, upsample: int, accuracy: str):
+    """The pixels ``box`` = (i0, i1, j0, j1) of the image: formed on that sub-grid, and for FFBP on
+    the sub-grid grown by :data:`FFBP_OVERLAP` pixels each side (inside the grid) and cropped, so
+    that the error FFBP makes near the edge of what it forms stays out of the tile (no seam).
+
+    Parameters
+    ----------
+    pulses : InMemoryPulses or DatasetPulses
+    ig : ImageGrid
+        The whole grid.
+    window : Window
+    tiling : Tiling
+    box : (int, int, int, int)
+    upsample : int
+    accuracy : str
+
+    Returns
+    -------
+    (complex64 ndarray, dict)
+    """
+    i0, i1, j0, j1 = box
+    m = FFBP_OVERLAP if tiling.algorithm == "ffbp" and tiling.tiled else 0
+    e0, e1, f0, f1 = max(0, i0 - m), min(ig.shape[0], i1 + m), max(0, j0 - m), min(ig.shape[1], j1 + m)
+    img, info = form_tile(pulses, tile_grid(ig, e0, e1, f0, f1), window, tiling, upsample, accuracy)
+    return img[i0 - e0:i1 - e0, j0 - f0:j1 - f0], info
 
 
 def _tile_task(pulses, ig: ImageGrid, window: Window, tiling: Tiling, k: int, upsample: int, accuracy: str):
     """Dask task: tile ``k`` of the plan (top level, so workers import it); the worker reads its own
     pulses (a file's blocks) or holds the scattered phase history."""
     i0, i1, j0, j1 = tiling.tiles[k]
-    img, info = form_tile(pulses, tile_grid(ig, i0, i1, j0, j1), window, tiling, upsample, accuracy)
+    img, info = tile_image(pulses, ig, window, tiling, (i0, i1, j0, j1), upsample, accuracy)
     return k, img, info
 
 
@@ -438,17 +492,17 @@ def form_tiles(pulses, ig: ImageGrid, window: Window, tiling: Tiling, *, upsampl
     """
     blocked = tiling.pulse_block < tiling.pulses
     probe = pulses.probe
-    backprojected = tiling.algorithm == "bp" and not (probe.mode == "stripmap" and probe.real_aperture > 0)
-    if blocked and not backprojected:
-        raise ScenarioError("processing.algorithm", tiling.algorithm, "only bp of spotlight data forms its pulses "
-                            "in blocks")
+    spotlight = not (probe.mode == "stripmap" and probe.real_aperture > 0)
+    if blocked and not (spotlight and tiling.algorithm in ("bp", "ffbp")):
+        raise ScenarioError("processing.algorithm", tiling.algorithm, "only bp and ffbp of spotlight data form "
+                            "their pulses in blocks")
     remote_file = client is not None and isinstance(pulses, DatasetPulses) and pulses.source
     if not blocked and not remote_file:
         pulses = InMemoryPulses(pulses.whole())  # read once, for every tile
     info, tiles = {}, tiling.tiles
     if client is None:
         for k, (i0, i1, j0, j1) in enumerate(tiles):
-            img, info = form_tile(pulses, tile_grid(ig, i0, i1, j0, j1), window, tiling, upsample, accuracy)
+            img, info = tile_image(pulses, ig, window, tiling, (i0, i1, j0, j1), upsample, accuracy)
             sink(i0, j0, img)
             if progress is not None:
                 progress(k + 1, len(tiles))
