@@ -132,7 +132,7 @@ import json, resource, sys, time
 sys.path.insert(0, {bench!r})
 from common import spotlight_scenario
 from salkit.simulate.sal import simulate_to_file
-sc = spotlight_scenario({swath}, {pulses}, speed=1.0)  # an ADC for a {swath}-pixel range swath
+sc = spotlight_scenario({swath}, {pulses}, speed={speed})  # an ADC for a {swath}-pixel range swath
 t0 = time.perf_counter()
 simulate_to_file(sc, {folder!r} + "/raw.nc", memory_limit=2 * 2 ** 30)
 print(json.dumps({{"seconds": time.perf_counter() - t0,
@@ -149,32 +149,41 @@ lazy = open_dataset(folder + "/raw.nc", lazy=True)
 sc = stored_scenario(lazy.attrs)
 base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
 t0 = time.perf_counter()
-img = focus_to_file(lazy, folder + "/image.nc", sc.processing, algorithm="bp",
+img = focus_to_file(lazy, folder + "/image.nc", sc.processing, algorithm={alg!r},
                     grid=Grid(nx={n_pix}, ny={n_pix}, dx=0.015, dy=0.015), memory_limit={limit!r})
 dt = time.perf_counter() - t0
 peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+from salkit.io import brightest_window
+from salkit.metrics import measure
+m = measure(brightest_window(img))  # the brightest point: where, how sharp, against theory
+check = {{k: float(m[k]) for k in ("peak_amplitude", "irw_range_m", "irw_range_theory_m", "irw_azimuth_m",
+                                  "irw_azimuth_theory_m", "peak_offset_range_m", "peak_offset_azimuth_m") if k in m}}
 print(json.dumps({{"seconds": dt, "peak_rss": peak, "baseline_rss": base, "tiles": int(img.attrs.get("tiles", 1)),
+                  "check": check,
                   "pulse_block": int(img.attrs.get("pulse_block", 0)), "history_bytes": os.path.getsize(folder + "/raw.nc"),
                   "signal_shape": list(lazy["signal"].shape), "tiling": str(img.attrs.get("tiling", ""))}}))
 '''
 
 
-def bench_big_history(swath: int = 728_000, pulses: int = 4096, n_pix: int = 4096, limit: str = "4GiB") -> dict:
-    """A history larger than memory (about 20 GiB: 4096 pulses x 655 k samples) simulated into a
-    file a block at a time (one process), then focused onto n_pix^2 by direct BP in pulse blocks
-    read from the file, under ``limit`` (another process, its peak resident memory measured)."""
+def bench_big_history(swath: int = 45_500, pulses: int = 65_536, n_pix: int = 4096, limit: str = "4GiB",
+                      alg: str = "ffbp", speed: float = 0.25) -> dict:
+    """A history larger than memory (about 20 GiB: 65536 pulses x 41 k samples) simulated into a
+    file a block at a time (one process), then focused onto n_pix^2 in pulse blocks read from the
+    file (FFBP by default), under ``limit`` (another process, its peak resident memory measured)."""
     with tempfile.TemporaryDirectory(prefix="salkit-bench-big-") as d:
-        fill = dict(bench=str(Path(__file__).parent), swath=swath, pulses=pulses, n_pix=n_pix, limit=limit, folder=d)
+        fill = dict(bench=str(Path(__file__).parent), swath=swath, pulses=pulses, n_pix=n_pix, limit=limit, folder=d,
+                    alg=alg, speed=speed)
         r = subprocess.run([sys.executable, "-c", BIG_SIMULATE.format(**fill)], capture_output=True, text=True, check=True)
         sim = json.loads(r.stdout.strip().splitlines()[-1])
         r = subprocess.run([sys.executable, "-c", BIG_FOCUS.format(**fill)], capture_output=True, text=True, check=True)
         m = json.loads(r.stdout.strip().splitlines()[-1])
-    key = f"big_history_bp_{n_pix}_{limit}"
+    key = f"big_history_{alg}_{n_pix}_{limit}"
     return {f"{key}_history_gib": m["history_bytes"] / 2 ** 30, f"{key}_signal": "x".join(map(str, m["signal_shape"])),
             f"{key}_simulate_s": sim["seconds"], f"{key}_simulate_peak_rss_mib": sim["peak_rss"] / 2 ** 20,
             f"{key}_focus_s": m["seconds"], f"{key}_focus_peak_rss_mib": m["peak_rss"] / 2 ** 20,
             f"{key}_focus_baseline_rss_mib": m["baseline_rss"] / 2 ** 20, f"{key}_tiles": m["tiles"],
-            f"{key}_pulse_block": m["pulse_block"], f"{key}_tiling": m["tiling"]}
+            f"{key}_pulse_block": m["pulse_block"], f"{key}_tiling": m["tiling"],
+            **{f"{key}_brightest_{k}": v for k, v in m["check"].items()}}
 
 
 if __name__ == "__main__":
