@@ -190,11 +190,16 @@ def check_memory(need: float, what: str, hint: str) -> None:
         raise ResourceError(f"{what} needs about {gib(need)} of memory, {gib(have)} available; {hint}")
 
 
-__all__ = ["available_memory", "check_memory", "gib", "parse_size", "set_limit", "size_text", "user_limit"]
+__all__ = ["available_memory", "check_memory", "gib", "parse_size", "set_limit", "size_text", "user_limit", "in_dask_task"]
 
 
-def _in_dask_task() -> bool:
-    """Whether this code runs inside a Dask worker's task."""
+def in_dask_task() -> bool:
+    """Whether this code runs inside a Dask worker's task.
+
+    Returns
+    -------
+    bool
+    """
     if "distributed" not in sys.modules:
         return False
     try:
@@ -229,7 +234,7 @@ def dask_client(scheduler: str | None = None, workers: int | None = None):
     EnvironmentProblem
         When no scheduler answers at ``scheduler`` (nothing has been written).
     """
-    if scheduler is None and _in_dask_task():  # nested (a sweep's point): the cluster it runs on
+    if scheduler is None and in_dask_task():  # nested (a sweep's point): the cluster it runs on
         with _dask_distributed.worker_client() as client:
             yield client
         return

@@ -28,7 +28,7 @@ import scipy.fft as sfft
 from ..errors import DataFileError, ResourceError, ScenarioError
 from ..io.datasets import lazy_reads
 from ..io.formats import read_phase_data
-from ..resources import size_text as gib
+from ..resources import in_dask_task, size_text as gib
 from ..signals.windows import Window
 from ..tolerances import BP_UPSAMPLE
 from .backprojection import backproject, profile_block
@@ -237,7 +237,7 @@ def plan_tiling(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str,
     return Tiling(nx, ny, tx, ty, n_pulses, pb, est, budget, algorithm)
 
 
-#: The last whole phase history a :class:`DatasetPulses` read in this process (one entry).
+#: The last whole phase history a :class:`DatasetPulses` read on this Dask worker (one entry).
 _WHOLE: dict = {}
 
 
@@ -306,9 +306,9 @@ class DatasetPulses:
         return dataclasses.replace(ph, track=self.track, center_position=self.center_position)
 
     def whole(self) -> PhaseHistory:
-        """Every pulse at once (kept for the next call in this process: tiles of FFBP on a worker
-        read the file once)."""
-        key = (self.source, self.chirp) if self.source else None
+        """Every pulse at once (on a Dask worker, kept for its next tile: the tiles of FFBP a worker
+        forms read the file once; elsewhere nothing is kept beyond the caller's use)."""
+        key = (self.source, self.chirp) if self.source and in_dask_task() else None
         if key is not None and _WHOLE.get("key") == key:
             return _WHOLE["ph"]
         with lazy_reads("signal"):
