@@ -243,10 +243,19 @@ def dask_client(scheduler: str | None = None, workers: int | None = None):
         if scheduler:
             client = _dask_distributed.Client(scheduler, timeout="5s")
         else:
-            cluster = _dask_distributed.LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1,
-                                                     processes=True, dashboard_address=None,
-                                                     env={"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"})
-            client = _dask_distributed.Client(cluster)
+            local = _dask_distributed.LocalCluster
+            try:
+                with _interrupts_not_inherited():
+                    cluster = local(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1,
+                                    processes=True, dashboard_address=None,
+                                    env={"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"})
+                client = _dask_distributed.Client(cluster)
+                client.run(_quiet_worker_logs)
+            except BaseException:
+                if cluster is not None:
+                    with _quiet_dask():
+                        cluster.close()
+                raise
     except (OSError, TimeoutError) as err:
         if cluster is not None:
             cluster.close()
@@ -255,6 +264,54 @@ def dask_client(scheduler: str | None = None, workers: int | None = None):
     try:
         yield client
     finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+        with _quiet_dask():
+            client.close()
+            if cluster is not None:
+                cluster.close()
+
+
+@contextmanager
+def _interrupts_not_inherited():
+    """SIGINT ignored while a local cluster's worker processes are started, so that they ignore it
+    for good (Python keeps a SIGINT its parent ignored): a Ctrl-C at the terminal, which reaches
+    every process of the group, then interrupts only this process, which closes the cluster (the
+    workers would otherwise each print a KeyboardInterrupt traceback). A Ctrl-C in the two or so
+    seconds the workers take to start is not seen (a signal can be ignored or held, not both).
+    Only in the main thread (where signals are set)."""
+    import signal
+    import threading
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    before = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, before)
+
+
+def _quiet_worker_logs():
+    """Run on each worker of a local cluster salkit started: Dask's own log silenced there (what
+    goes wrong in a task reaches the caller as its exception; a worker that dies is reported by
+    its nanny in the calling process)."""
+    import logging
+    for name in ["distributed"] + [n for n in logging.root.manager.loggerDict if n.startswith("distributed.")]:
+        logging.getLogger(name).setLevel(logging.CRITICAL + 1)
+
+
+@contextmanager
+def _quiet_dask():
+    """Dask's own log silenced while a client and its cluster close: after an interrupt its
+    scheduler and nannies report, with tracebacks, the tasks and connections the closing cut short
+    (the run's own message says what happened; the interrupt is tested to leave only that)."""
+    import logging
+    names = ["distributed"] + [n for n in logging.root.manager.loggerDict if n.startswith("distributed.")]
+    loggers = [logging.getLogger(n) for n in names]
+    levels = [lg.level for lg in loggers]
+    for lg in loggers:
+        lg.setLevel(logging.CRITICAL + 1)
+    try:
+        yield
+    finally:
+        for lg, level in zip(loggers, levels):
+            lg.setLevel(level)

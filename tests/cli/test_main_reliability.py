@@ -243,3 +243,31 @@ def test_version():
     from salkit import __version__
     r = runner.invoke(app, ["--version"])
     assert r.exit_code == 0 and __version__ in r.output
+
+
+def test_interrupted_focus_on_a_dask_cluster_leaves_nothing(tmp_path):
+    """Ctrl-C at the terminal (SIGINT to the whole process group, workers included) while the tiles
+    run on a local Dask cluster of 2 workers: exit 130, only salkit's own lines (no traceback, no
+    Dask log), no folder or partly written file, no worker process left running."""
+    import psutil
+    scen = tmp_path / "s.yaml"
+    scen.write_text(yaml.safe_dump(merge(SPOT, processing__grid={"nx": 1024, "ny": 1024, "dx": 0.005,
+                                                                  "dy": 0.005})))
+    assert cli("simulate", scen, "--out", tmp_path / "raw.nc").returncode == 0
+    p = subprocess.Popen([sys.executable, "-m", "salkit.cli.main", "focus", tmp_path / "raw.nc", "--algorithm", "bp",
+                          "--workers", "2", "--memory-limit", "8MiB", "--out", tmp_path / "out"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    me, workers, t0 = psutil.Process(p.pid), [], time.time()
+    while len(workers) < 2 and p.poll() is None and time.time() - t0 < 60:
+        workers = [c for c in me.children(recursive=True) if "spawn_main" in " ".join(c.cmdline())]
+        time.sleep(0.1)
+    assert len(workers) == 2, p.communicate()
+    time.sleep(2.5)  # the workers started (a Ctrl-C while they start is not seen) and the tiles under way
+    os.killpg(p.pid, signal.SIGINT)
+    _, err = p.communicate(timeout=60)
+    lines = [x for x in err.splitlines() if x.strip() and "\u2501" not in x]
+    assert p.returncode == 130, (p.returncode, err)
+    assert all(x.startswith(("note:", "warning:", "interrupted:")) for x in lines), err
+    assert sorted(x.name for x in tmp_path.iterdir()) == ["raw.nc", "s.yaml"]
+    _, alive = psutil.wait_procs(workers, timeout=20)
+    assert not alive, alive

@@ -91,7 +91,7 @@ def _bp_row(pk, r0, inv_dr, hi, A, B, C, refp, rg, cyc_per_m, w, out_re, out_im,
 ROW_TILE = 8
 
 
-@njit(parallel=True, cache=True, fastmath=True)
+@njit(parallel=True, nogil=True, cache=True, fastmath=True)
 def bp_kernel(packed, r0, inv_dr, pos, ref, D, row_origin, rdir, rg, cyc_per_m, weight, img_re, img_im):
     """Accumulate a block of pulses into the image, tiles of :data:`ROW_TILE` rows in parallel.
 
@@ -145,7 +145,7 @@ def bp_kernel(packed, r0, inv_dr, pos, ref, D, row_origin, rdir, rg, cyc_per_m, 
                         img_re[i], img_im[i], idx, frs, ss, cs)
 
 
-@njit(parallel=True, cache=True)
+@njit(parallel=True, nogil=True, cache=True)
 def _pack_kernel(prof, out):
     P, nb = prof.shape
     for p in prange(P):
@@ -360,7 +360,7 @@ def backproject(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_ran
     return img_re + 1j * img_im
 
 
-@njit(parallel=True, cache=True, fastmath=True)
+@njit(parallel=True, nogil=True, cache=True, fastmath=True)
 def _contrib_kernel(packed, r0, inv_dr, pos, ref, pts, cyc_per_m, out):
     """out[p, k] = profile_p(dR) exp(+j 2 pi cyc_per_m dR), dR = |x_k - p_p| - R_ref,p (float64)."""
     P = pos.shape[0]

@@ -41,7 +41,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import get_num_threads, njit, prange
 
 from ..choices import ACCURACY, check_choice
 from ..constants import SPEED_OF_LIGHT
@@ -128,19 +128,16 @@ def _rotate(vr, vi, cyc):
 
 
 @njit(cache=True, fastmath=True, inline="always", error_model="numpy")
-def _polar_line(o, ea, er, cen, r0, dr, n, u):
+def _polar_line(o, ea, er, cen, r0, dr, n, u, X0, X1, X2, rl):
     """The plane points of one polar line (direction cosine u along ea, ranges r0 + k dr from
-    ``cen``, on the far side of ``cen`` along er), their ranges, and the first and last index that
-    lie in the plane (top < lo: none; entries before lo are not set).
+    ``cen``, on the far side of ``cen`` along er) written into ``X0, X1, X2`` and their ranges into
+    ``rl`` (the caller's buffers, at least ``n`` long: no allocation per line), and the first and
+    last index that lie in the plane (top < lo: none; entries before lo are not set).
 
     A point at range r exists where r^2 (1 - u^2) >= h^2, h the distance from ``cen`` to the
     plane's line along ea through the foot of ``cen``: from a range found in closed form on, so
     the loop over the line has no branch and vectorises.
     """
-    X0 = np.empty(n)
-    X1 = np.empty(n)
-    X2 = np.empty(n)
-    rl = np.empty(n)
     d0 = o[0] - cen[0]
     d1 = o[1] - cen[1]
     d2 = o[2] - cen[2]
@@ -149,14 +146,14 @@ def _polar_line(o, ea, er, cen, r0, dr, n, u):
     h2 = d0 * d0 + d1 * d1 + d2 * d2 - da * da - dg * dg
     w = 1.0 - u * u
     if w <= 0.0:
-        return X0, X1, X2, rl, n, -1
+        return n, -1
     lo = 0
     if h2 > 0.0:
         lo = max(0, int(math.ceil((math.sqrt(h2 / w) - r0) / dr)))
         while lo < n and (r0 + lo * dr) ** 2 * w < h2:
             lo += 1
     if lo >= n:
-        return X0, X1, X2, rl, n, -1
+        return n, -1
     x0 = X0[lo:]
     x1 = X1[lo:]
     x2 = X2[lo:]
@@ -172,12 +169,12 @@ def _polar_line(o, ea, er, cen, r0, dr, n, u):
         x0[q] = oa0 + sa * ea[0] + t * er[0]
         x1[q] = oa1 + sa * ea[1] + t * er[1]
         x2[q] = oa2 + sa * ea[2] + t * er[2]
-    return X0, X1, X2, rl, lo, n - 1
+    return lo, n - 1
 
 
 @njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
 def _leaf_line(prof, rp0, inv_drp, pos, ref, qrel, weight, first, count, cen, X0, X1, X2, r_line, cyc_per_m, tr,
-               acc2, fr_b, sn_b, cs_b, t2, series):
+               acc2, fr_b, sn_b, cs_b, t2, E0, E1, E2, h, series):
     """Backproject a leaf's pulses onto one polar line of points (baseband): per pulse, the
     profile bin position and phase of every point (SIMD), then the range pass (the profiles are
     sampled at the polar grids' range spacing, so the line moves one profile bin per point).
@@ -188,13 +185,15 @@ def _leaf_line(prof, rp0, inv_drp, pos, ref, qrel, weight, first, count, cen, X0
     of rounding (5e-4 rad at 1.55 um). With ``series`` (the caller's bound on the leaf's extent
     against its range keeps the truncation below 1e-5 rad) the quotient is the series
     x (1 - s + 2 s^2), x = num / 2r, s = x / 2r, and R = r + (R - r): no square root or division
-    per point and pulse."""
+    per point and pulse. ``E0, E1, E2, h`` are scratch of at least the line's length.
+    """
     n = X0.shape[0]
     nb = prof.shape[1] // 2
-    E0 = X0 - cen[0]
-    E1 = X1 - cen[1]
-    E2 = X2 - cen[2]
-    h = 0.5 / r_line
+    for k in range(n):
+        E0[k] = X0[k] - cen[0]
+        E1[k] = X1[k] - cen[1]
+        E2[k] = X2[k] - cen[2]
+        h[k] = 0.5 / r_line[k]
     for p in range(first, first + count):
         px = pos[p, 0]
         py = pos[p, 1]
@@ -233,31 +232,56 @@ def _leaf_line(prof, rp0, inv_drp, pos, ref, qrel, weight, first, count, cen, X0
         _range_pass(fr_b, n, prof[p], 0, nb - 1, fr_b[n - 1] - fr_b[0], tr, sn_b, cs_b, acc2, t2)
 
 
-@njit(parallel=True, cache=True, fastmath=True, error_model="numpy")
+def _chunks() -> int:
+    """How many chunks the parallel kernels split their lines into: four a thread (each chunk
+    allocates its line buffers once; read here, outside the kernels, so that they cache)."""
+    return 4 * get_num_threads()
+
+
+@njit(cache=True)
+def _line_scratch(n, n_child_bins):
+    """Buffers for the lines of one chunk, each at least ``n`` points long: the points X0, X1, X2
+    and their ranges; E0, E1, E2; the bin fractions and angle indices (float64); sin and cos
+    (float32); the interleaved accumulator and range-pass buffer (2 n float32); a child's cut
+    (``n_child_bins`` float32); a zero ``extra`` (float64)."""
+    return (np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n),
+            np.empty(n), np.empty(n), np.empty(n, np.float32), np.empty(n, np.float32),
+            np.empty(2 * n, np.float32), np.empty(2 * n, np.float32), np.empty(n_child_bins, np.float32),
+            np.zeros(n))
+
+
+@njit(parallel=True, nogil=True, cache=True, fastmath=True, error_model="numpy")
 def _leaf_kernel(prof, rp0, inv_drp, pos, ref, qrel, weight, first, count, cen, o, ea, er,
-                 u0, du, nu, r0, dr, nr, cyc_per_m, tr, out, series):
+                 u0, du, nu, r0, dr, nr, cyc_per_m, tr, out, series, chunks):
     """Backproject each leaf's pulses onto its polar grid, at baseband (``LEAF_TAPS``-tap
     least-squares interpolation of range profiles sampled at the grid's range spacing)."""
     S, NU, NR = out.shape
-    for job in prange(S * NU):
-        s = job // NU
-        iu = job % NU
-        orow = out[s, iu]
-        for k in range(NR):  # every sample written (the grids are reused buffers, not zeroed)
-            orow[k] = 0j
-        if iu >= nu[s]:
-            continue
-        X0, X1, X2, rl, lo, top = _polar_line(o, ea, er, cen[s], r0[s], dr, nr[s], u0[s] + iu * du[s])
-        if top <= lo:
-            continue
-        m = top + 1 - lo
-        acc2 = np.zeros(2 * m, np.float32)
-        _leaf_line(prof, rp0, inv_drp, pos, ref, qrel, weight, first[s], count[s], cen[s], X0[lo:top + 1], X1[lo:top + 1],
-                   X2[lo:top + 1], rl[lo:top + 1], cyc_per_m, tr, acc2, np.empty(m), np.empty(m, np.float32),
-                   np.empty(m, np.float32), np.empty(2 * m, np.float32), series)
-        seg = out[s, iu, lo:top + 1]
-        for k in range(m):
-            seg[k] = complex(acc2[2 * k], acc2[2 * k + 1])
+    n_jobs = S * NU
+    n_chunks = max(1, min(n_jobs, chunks))
+    for ch in prange(n_chunks):
+        # one set of line buffers a chunk of lines, not a line (an allocation per line is a page
+        # fault per line where the allocator trims eagerly, as in a Dask worker's thread)
+        X0, X1, X2, rl, E0, E1, E2, fr_b, v_b, sn_b, cs_b, acc2, t2, _h2, _z = _line_scratch(NR, 0)
+        for job in range(ch * n_jobs // n_chunks, (ch + 1) * n_jobs // n_chunks):
+            s = job // NU
+            iu = job % NU
+            orow = out[s, iu]
+            for k in range(NR):  # every sample written (the grids are reused buffers, not zeroed)
+                orow[k] = 0j
+            if iu >= nu[s]:
+                continue
+            lo, top = _polar_line(o, ea, er, cen[s], r0[s], dr, nr[s], u0[s] + iu * du[s], X0, X1, X2, rl)
+            if top <= lo:
+                continue
+            m = top + 1 - lo
+            for k in range(2 * m):
+                acc2[k] = np.float32(0.0)
+            _leaf_line(prof, rp0, inv_drp, pos, ref, qrel, weight, first[s], count[s], cen[s], X0[lo:top + 1],
+                       X1[lo:top + 1], X2[lo:top + 1], rl[lo:top + 1], cyc_per_m, tr, acc2[:2 * m], fr_b[:m],
+                       sn_b[:m], cs_b[:m], t2[:2 * m], E0, E1, E2, v_b, series)
+            seg = out[s, iu, lo:top + 1]
+            for k in range(m):
+                seg[k] = complex(acc2[2 * k], acc2[2 * k + 1])
 
 
 #: Largest move of an interpolation fraction within one segment of constant weights' slope, samples.
@@ -508,24 +532,30 @@ def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, cx, cy, cz, dr_child, ea0,
 
 @njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
 def _line_from_children(Gf, c0, c1, cu0, cdu, cnu, cr0, cnr, ccen, crho, lcen, lrho, dr_child, ea, X0, X1, X2,
-                        r_line, extra, cyc_per_m, tu, tr, orow):
+                        r_line, extra, cyc_per_m, tu, tr, orow, E0, E1, E2, acc2, fr_b, v_b, sn_b, cs_b, h2, t2):
     """Children c0 .. c1 - 1 summed along one line of points (a parent's polar line or an image
     row) into ``orow``, each interpolated and moved from its baseband to the line's:
     exp(j k ((|X - c_child| - rho_child) - (|X - c_line| - rho_line) + extra)), ``r_line`` =
     |X - c_line|, ``extra`` 0 for a parent and |X - o| for the image (baseband about the origin
     with rho 0, then undone). The range differences are formed from small ones:
-    |X - a|^2 - |X - b|^2 = (b - a).(2 (X - b) + (b - a))."""
+    |X - a|^2 - |X - b|^2 = (b - a).(2 (X - b) + (b - a)). The rest are the caller's scratch
+    (:func:`_line_scratch`), sliced here to the line: no allocation per line."""
     m = X0.shape[0]
-    E0 = X0 - lcen[0]
-    E1 = X1 - lcen[1]
-    E2 = X2 - lcen[2]
-    acc2 = np.zeros(2 * m, np.float32)
-    fr_b = np.empty(m)
-    v_b = np.empty(m)
-    sn_b = np.empty(m, np.float32)
-    cs_b = np.empty(m, np.float32)
-    h2 = np.empty(Gf.shape[2], np.float32)
-    t2 = np.empty(2 * m, np.float32)
+    E0 = E0[:m]
+    E1 = E1[:m]
+    E2 = E2[:m]
+    acc2 = acc2[:2 * m]
+    fr_b = fr_b[:m]
+    v_b = v_b[:m]
+    sn_b = sn_b[:m]
+    cs_b = cs_b[:m]
+    t2 = t2[:2 * m]
+    for k in range(m):
+        E0[k] = X0[k] - lcen[0]
+        E1[k] = X1[k] - lcen[1]
+        E2[k] = X2[k] - lcen[2]
+    for k in range(2 * m):
+        acc2[k] = np.float32(0.0)
     for c in range(c0, c1):
         q0 = lcen[0] - ccen[c, 0]
         q1 = lcen[1] - ccen[c, 1]
@@ -538,29 +568,34 @@ def _line_from_children(Gf, c0, c1, cu0, cdu, cnu, cr0, cnr, ccen, crho, lcen, l
         orow[k] = complex(acc2[2 * k], acc2[2 * k + 1])
 
 
-@njit(parallel=True, cache=True, fastmath=True, error_model="numpy")
+@njit(parallel=True, nogil=True, cache=True, fastmath=True, error_model="numpy")
 def _merge_kernel(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, dr_child, factor, o, ea, er, cen, rho, u0, du, nu, r0, dr,
-                  nr, cyc_per_m, tu, tr, out):
+                  nr, cyc_per_m, tu, tr, out, chunks):
     """Merge ``factor`` consecutive child sub-images into each parent's polar grid."""
     S, NU, NR = out.shape
     n_child = Gf.shape[0]
-    for job in prange(S * NU):
-        s = job // NU
-        iu = job % NU
-        orow = out[s, iu]
-        for k in range(NR):  # every sample written (the grids are reused buffers, not zeroed)
-            orow[k] = 0j
-        if iu >= nu[s]:
-            continue
-        X0, X1, X2, rl, lo, top = _polar_line(o, ea, er, cen[s], r0[s], dr, nr[s], u0[s] + iu * du[s])
-        if top < lo:
-            continue
-        _line_from_children(Gf, s * factor, min(s * factor + factor, n_child), cu0, cdu, cnu, cr0, cnr, ccen, crho,
-                            cen[s], rho[s], dr_child, ea, X0[lo:top + 1], X1[lo:top + 1], X2[lo:top + 1],
-                            rl[lo:top + 1], np.zeros(top + 1 - lo), cyc_per_m, tu, tr, out[s, iu, lo:top + 1])
+    n_jobs = S * NU
+    n_chunks = max(1, min(n_jobs, chunks))
+    for ch in prange(n_chunks):
+        X0, X1, X2, rl, E0, E1, E2, fr_b, v_b, sn_b, cs_b, acc2, t2, h2, zero = _line_scratch(NR, Gf.shape[2])
+        for job in range(ch * n_jobs // n_chunks, (ch + 1) * n_jobs // n_chunks):
+            s = job // NU
+            iu = job % NU
+            orow = out[s, iu]
+            for k in range(NR):  # every sample written (the grids are reused buffers, not zeroed)
+                orow[k] = 0j
+            if iu >= nu[s]:
+                continue
+            lo, top = _polar_line(o, ea, er, cen[s], r0[s], dr, nr[s], u0[s] + iu * du[s], X0, X1, X2, rl)
+            if top < lo:
+                continue
+            _line_from_children(Gf, s * factor, min(s * factor + factor, n_child), cu0, cdu, cnu, cr0, cnr, ccen,
+                                crho, cen[s], rho[s], dr_child, ea, X0[lo:top + 1], X1[lo:top + 1], X2[lo:top + 1],
+                                rl[lo:top + 1], zero[:top + 1 - lo], cyc_per_m, tu, tr, out[s, iu, lo:top + 1], E0,
+                                E1, E2, acc2, fr_b, v_b, sn_b, cs_b, h2, t2)
 
 
-@njit(parallel=True, cache=True, fastmath=True, error_model="numpy")
+@njit(parallel=True, nogil=True, cache=True, fastmath=True, error_model="numpy")
 def _final_kernel(G, cu0, cdu, cnu, cr0, cnr, ccen, crho, dr_child, o, ea, er, az, rg, cyc_per_m, tu, tr, out):
     """Every remaining sub-image interpolated onto the output grid (table weights), its phase
     k (|x - c| - rho_c) restored (from small differences, as the merges)."""
@@ -615,20 +650,24 @@ def _final_kernel(G, cu0, cdu, cnu, cr0, cnr, ccen, crho, dr_child, o, ea, er, a
             out[i, j] = complex(acc_r, acc_i)
 
 
-@njit(parallel=True, cache=True, fastmath=True, error_model="numpy")
-def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, dr_child, o, ea, er, az, rg, cyc_per_m, tu, tr, out):
+@njit(parallel=True, nogil=True, cache=True, fastmath=True, error_model="numpy")
+def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, dr_child, o, ea, er, az, rg, cyc_per_m, tu, tr, out, chunks):
     """Every remaining sub-image interpolated onto the output grid row by row, separably (as a
     merge: a row along the range axis crosses each child's range bins in order when every child
     centre lies on the near side of the image, which the caller checks), its phase k |x - c|
     restored (the line's baseband about the origin o with rho 0, undone by ``extra`` = |x - o|)."""
     nx, ny = out.shape
-    for i in prange(nx):
-        X0 = o[0] + az[i] * ea[0] + rg * er[0]
-        X1 = o[1] + az[i] * ea[1] + rg * er[1]
-        X2 = o[2] + az[i] * ea[2] + rg * er[2]
-        d = np.sqrt(az[i] * az[i] + rg * rg)
-        _line_from_children(Gf, 0, Gf.shape[0], cu0, cdu, cnu, cr0, cnr, ccen, crho, o, 0.0, dr_child, ea, X0, X1, X2,
-                            d, d, cyc_per_m, tu, tr, out[i])
+    n_chunks = max(1, min(nx, chunks))
+    for ch in prange(n_chunks):
+        X0, X1, X2, d, E0, E1, E2, fr_b, v_b, sn_b, cs_b, acc2, t2, h2, _z = _line_scratch(ny, Gf.shape[2])
+        for i in range(ch * nx // n_chunks, (ch + 1) * nx // n_chunks):
+            for k in range(ny):
+                X0[k] = o[0] + az[i] * ea[0] + rg[k] * er[0]
+                X1[k] = o[1] + az[i] * ea[1] + rg[k] * er[1]
+                X2[k] = o[2] + az[i] * ea[2] + rg[k] * er[2]
+                d[k] = math.sqrt(az[i] * az[i] + rg[k] * rg[k])
+            _line_from_children(Gf, 0, Gf.shape[0], cu0, cdu, cnu, cr0, cnr, ccen, crho, o, 0.0, dr_child, ea, X0, X1,
+                                X2, d, d, cyc_per_m, tu, tr, out[i], E0, E1, E2, acc2, fr_b, v_b, sn_b, cs_b, h2, t2)
 
 
 def _rows_in_order(o: np.ndarray, er: np.ndarray, centres: np.ndarray, rg: np.ndarray) -> bool:
@@ -782,7 +821,7 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     r_min = float(np.min(r0))
     series = SERIES and r_min > 0 and 5.0 * x_max ** 4 / (2.0 * r_min) ** 3 * 4.0 * math.pi / lam_min < 1e-5
     _leaf_kernel(prof.view(np.float32), rp0, 1.0 / dr, positions, ref_range, qrel, w, first, count, centres, o, ea,
-                 er, u0, du, nu, r0, dr, nr, cyc_per_m, tl, G, series)
+                 er, u0, du, nu, r0, dr, nr, cyc_per_m, tl, G, series, _chunks())
     samples = [int((nu * nr).sum())]
     done += 1
     if progress:
@@ -801,7 +840,7 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
         out = grid_buffer(done, (len(parents), int(pnu.max()), int(pnr.max())))
         prho = np.linalg.norm(pcen - o, axis=1)
         _merge_kernel(G.view(np.float32), u0, du, nu, r0, nr, centres, rho, dr, f_level, o, ea, er, pcen, prho, pu0,
-                      pdu, pnu, pr0, dr, pnr, cyc_per_m, tu, tr, out)
+                      pdu, pnu, pr0, dr, pnr, cyc_per_m, tu, tr, out, _chunks())
         G, centres, weights, rho = out, pcen, pw, prho
         u0, du, nu, r0, nr = pu0, pdu, pnu, pr0, pnr
         samples.append(int((nu * nr).sum()))
@@ -812,7 +851,7 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     az, rg = np.asarray(grid.azimuth, np.float64), np.asarray(grid.range, np.float64)
     if _rows_in_order(o, er, centres, rg):
         _final_rows(G.view(np.float32), u0, du, nu, r0, nr, centres, rho, dr, o, ea, er, az, rg, cyc_per_m, tu, tr,
-                    img)
+                    img, _chunks())
     else:
         _final_kernel(G, u0, du, nu, r0, nr, centres, rho, dr, o, ea, er, az, rg, cyc_per_m, tu, tr, img)
     done += 1
