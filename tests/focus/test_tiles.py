@@ -150,7 +150,8 @@ class DieOnFirstTile(_WorkerPlugin):
 def test_tiles_on_dask_equal_the_tiles_here_even_when_a_worker_dies(scene, tmp_path):
     """Two Dask workers: bp with each worker reading its pulse blocks from the file itself, ffbp from a
     phase history scattered to them; the images equal the ones formed in this process, though the
-    first worker to start a tile is killed (Dask runs that tile again elsewhere)."""
+    first worker to start a tile is killed (Dask runs that tile again elsewhere); formed twice in a
+    row from the same phase history, the same image."""
     dd = pytest.importorskip("dask.distributed")
     sc, raw = scene
     P, N = raw["signal"].shape
@@ -165,7 +166,11 @@ def test_tiles_on_dask_equal_the_tiles_here_even_when_a_worker_dies(scene, tmp_p
         # two tiles in work at once on this machine's budget (a local cluster): twice the limit
         there_bp = focus(lazy, sc.processing, algorithm="bp", memory_limit=2 * limit, client=client)
         there_ffbp = focus(raw, sc.processing, algorithm="ffbp", client=client)
+        # the same phase history again at once: its own scattered copy (an equal one shared a key
+        # with the last, which Dask was releasing: "lost dependencies")
+        again = focus(raw, sc.processing, algorithm="ffbp", client=client)
     assert marker.read_text() == "died"
+    np.testing.assert_array_equal(again["image"].values, there_ffbp["image"].values)
     assert there_bp.attrs["pulse_block"] < P and there_bp.attrs["tiles"] >= 2 and there_ffbp.attrs["tiles"] >= 2  # two a worker
     np.testing.assert_array_equal(there_bp["image"].values, here_bp["image"].values)
     ref = here_ffbp["image"].values  # one image here; on Dask tiles (its own accuracy, no seam: above)

@@ -507,7 +507,7 @@ def form_tiles(pulses, ig: ImageGrid, window: Window, tiling: Tiling, *, upsampl
             if progress is not None:
                 progress(k + 1, len(tiles))
     else:
-        src = pulses if remote_file else client.scatter(pulses, broadcast=True)
+        src = pulses if remote_file else client.scatter(pulses, broadcast=True, hash=False)  # a key of its own
         futures = [client.submit(_tile_task, src, ig, window, tiling, k, upsample, accuracy, pure=False)
                    for k in range(len(tiles))]
         try:
