@@ -19,7 +19,7 @@ demo: $(STAMP)
 
 test: $(STAMP)
 	$(VENV)/bin/lint-imports --no-cache
-	$(PY) -m pytest -q --doctest-modules src/salkit tests
+	$(PY) -m pytest -q -n auto --dist loadfile --doctest-modules src/salkit tests
 
 docs-figures: $(STAMP)
 	$(PY) docs/make_figures.py

@@ -98,7 +98,7 @@ g = Grid(nx=n_pix, ny=n_pix, dx=0.015, dy=0.015)
 P, N = raw["signal"].shape
 tiling = plan_tiling(P, N, n_pix, n_pix, alg, 2 ** 40, min_tiles=8)  # the same 8 tiles on 1 and 2 workers
 small = plan_tiling(P, N, 64, 64, alg, 2 ** 40, min_tiles=2)
-times, first, same = {{1: [], 2: []}}, None, True
+times, first, diffs = {{1: [], 2: []}}, None, []
 for rep in range(reps):  # 1 and 2 workers in turn, each a fresh local cluster as `salkit focus --workers` starts
     for n in (1, 2):
         with dask_client(workers=n) as client:
@@ -110,9 +110,15 @@ for rep in range(reps):  # 1 and 2 workers in turn, each a fresh local cluster a
             times[n].append(time.perf_counter() - t0)
         if first is None:
             first = res.image
-        else:
-            same = same and bool(np.array_equal(first, res.image))
-print(json.dumps({{"one": times[1], "two": times[2], "tiles": tiling.n_tiles, "same": same}}))
+        else:  # any difference from the first image recorded: pixels, energy, where
+            d = res.image - first
+            bad = np.argwhere(d != 0)
+            if bad.size:
+                e = float(np.sum(np.abs(d) ** 2) / np.sum(np.abs(first) ** 2))
+                diffs.append(dict(rep=rep, workers=n, pixels=int(len(bad)), energy_db=10 * np.log10(e) if e else None,
+                                  rows=[int(bad[:, 0].min()), int(bad[:, 0].max())],
+                                  cols=[int(bad[:, 1].min()), int(bad[:, 1].max())]))
+print(json.dumps({{"one": times[1], "two": times[2], "tiles": tiling.n_tiles, "same": not diffs, "diffs": diffs}}))
 '''
 
 PLAIN = r'''
@@ -177,7 +183,8 @@ def bench_tiles_scaling(n_pix: int = 8192, pulses: int = 2048, alg: str = "ffbp"
             f"{key}_speedup_of_median": one[len(one) // 2] / two[len(two) // 2],
             f"{key}_speedups_each_rep": " ".join(f"{a / b:.2f}" for a, b in zip(m["one"], m["two"])),
             f"{key}_plain_processes_speedup": plain1 / plain2,
-            f"{key}_tiles": m["tiles"], f"{key}_same_image": m["same"]}
+            f"{key}_tiles": m["tiles"], f"{key}_same_image": m["same"],
+            **({f"{key}_differences": json.dumps(m["diffs"])} if m["diffs"] else {})}
 
 
 BIG_SIMULATE = r'''

@@ -2,11 +2,24 @@
 from __future__ import annotations
 
 import copy
+import os
 from pathlib import Path
 
 import pytest
 
 from salkit.params import parse_scenario
+
+
+def pytest_configure(config):
+    """Under pytest-xdist (``make test`` runs ``-n auto``, one worker a core), each worker's share
+    of the cores for numba's kernels and BLAS, and for the ``salkit`` processes tests start: the
+    workers' parallel kernels then do not contend for the same cores."""
+    workers = int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "0") or 0)
+    if workers > 1:
+        share = str(max(1, (os.cpu_count() or 1) // workers))
+        os.environ["NUMBA_NUM_THREADS"] = share
+        os.environ["OMP_NUM_THREADS"] = share
+
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"

@@ -7,9 +7,12 @@ variable ``SALKIT_MAX_MEMORY`` set, whichever is smaller.
 """
 from __future__ import annotations
 
+import logging
 import os
 import re
+import signal
 import sys
+import threading
 from contextlib import contextmanager
 
 import lazy_loader as _lazy
@@ -278,8 +281,6 @@ def _interrupts_not_inherited():
     workers would otherwise each print a KeyboardInterrupt traceback). A Ctrl-C in the two or so
     seconds the workers take to start is not seen (a signal can be ignored or held, not both).
     Only in the main thread (where signals are set)."""
-    import signal
-    import threading
     if threading.current_thread() is not threading.main_thread():
         yield
         return
@@ -294,7 +295,6 @@ def _quiet_worker_logs():
     """Run on each worker of a local cluster salkit started: Dask's own log silenced there (what
     goes wrong in a task reaches the caller as its exception; a worker that dies is reported by
     its nanny in the calling process)."""
-    import logging
     for name in ["distributed"] + [n for n in logging.root.manager.loggerDict if n.startswith("distributed.")]:
         logging.getLogger(name).setLevel(logging.CRITICAL + 1)
 
@@ -304,7 +304,6 @@ def _quiet_dask():
     """Dask's own log silenced while a client and its cluster close: after an interrupt its
     scheduler and nannies report, with tracebacks, the tasks and connections the closing cut short
     (the run's own message says what happened; the interrupt is tested to leave only that)."""
-    import logging
     names = ["distributed"] + [n for n in logging.root.manager.loggerDict if n.startswith("distributed.")]
     loggers = [logging.getLogger(n) for n in names]
     levels = [lg.level for lg in loggers]

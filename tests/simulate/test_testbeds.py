@@ -35,7 +35,7 @@ def test_seed_geometries(which, R):
     assert np.linalg.norm(tb.center_position) == pytest.approx(R, rel=1e-6)
     assert C / tb.frequency.mean() == pytest.approx(1.55e-6, rel=1e-3)
     # pulses and frequencies sample twice the grid's extent without ambiguity
-    P, M = tb.positions.shape[0], tb.frequency.size
+    P = tb.positions.shape[0]
     L = np.linalg.norm(tb.positions[-1] - tb.positions[0])
     assert 1.55e-6 * R * P / (2 * L) >= 1.9 * 96 * tb.dx
     assert C / (2 * (tb.frequency[1] - tb.frequency[0])) >= 1.9 * 96 * tb.dy
