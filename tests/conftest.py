@@ -21,6 +21,25 @@ def pytest_configure(config):
         os.environ["OMP_NUM_THREADS"] = share
 
 
+#: The longest test files (about a minute or more each on 2 cores), run first: under xdist's
+#: ``--dist loadfile`` files go to workers in collection order, and one of these last would leave
+#: the other worker idle for its length at the end.
+LONGEST_FIRST = ("atmosphere/test_waveoptics.py", "cli/test_demo.py", "systems/test_turbulence.py",
+                 "cli/test_main_reliability.py", "atmosphere/test_beam.py", "autofocus/test_pulses.py",
+                 "systems/test_spaceborne.py", "systems/test_study_examples.py", "cli/test_studies.py",
+                 "stack/test_stacking.py", "atmosphere/test_screens.py", "atmosphere/test_path.py")
+
+
+def pytest_collection_modifyitems(session, config, items):
+    rank = {name: k for k, name in enumerate(LONGEST_FIRST)}
+
+    def key(item):
+        path = Path(str(item.fspath)).as_posix()
+        return min((rank[n] for n in rank if path.endswith("tests/" + n)), default=len(rank))
+
+    items.sort(key=key)  # stable: the rest keep their order
+
+
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"
 DL_EXAMPLE = EXAMPLES / "downlooking_3d.yaml"
