@@ -32,10 +32,12 @@ LONGEST_FIRST = ("atmosphere/test_waveoptics.py", "cli/test_demo.py", "systems/t
 
 def pytest_collection_modifyitems(session, config, items):
     rank = {name: k for k, name in enumerate(LONGEST_FIRST)}
+    tests = Path(__file__).resolve().parent
 
     def key(item):
-        path = Path(str(item.fspath)).as_posix()
-        return min((rank[n] for n in rank if path.endswith("tests/" + n)), default=len(rank))
+        path = Path(item.path).resolve()
+        name = path.relative_to(tests).as_posix() if path.is_relative_to(tests) else ""
+        return rank.get(name, len(rank))
 
     items.sort(key=key)  # stable: the rest keep their order
 
