@@ -14,6 +14,7 @@ import signal
 import sys
 import threading
 from contextlib import contextmanager
+from multiprocessing import resource_tracker as _resource_tracker
 
 import lazy_loader as _lazy
 
@@ -248,7 +249,7 @@ def dask_client(scheduler: str | None = None, workers: int | None = None):
         else:
             local = _dask_distributed.LocalCluster
             try:
-                with _interrupts_not_inherited():
+                with _interrupts_held():
                     cluster = local(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1,
                                     processes=True, dashboard_address=None,
                                     env={"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"})
@@ -274,21 +275,33 @@ def dask_client(scheduler: str | None = None, workers: int | None = None):
 
 
 @contextmanager
-def _interrupts_not_inherited():
-    """SIGINT ignored while a local cluster's worker processes are started, so that they ignore it
-    for good (Python keeps a SIGINT its parent ignored): a Ctrl-C at the terminal, which reaches
-    every process of the group, then interrupts only this process, which closes the cluster (the
-    workers would otherwise each print a KeyboardInterrupt traceback). A Ctrl-C in the two or so
-    seconds the workers take to start is not seen (a signal can be ignored or held, not both).
-    Only in the main thread (where signals are set)."""
+def _interrupts_held():
+    """SIGINT held, not lost, while a local cluster is started, and never delivered to its workers.
+
+    The main thread blocks SIGINT for the block: the cluster's event-loop thread, created now,
+    inherits the block, and so do the threads it starts and every worker process they spawn (a
+    signal mask survives fork and exec; Python never unblocks it), now or when a nanny restarts a
+    worker. A Ctrl-C at the terminal, which reaches every process of the group, then interrupts
+    only this process, which closes the cluster (each worker would otherwise print a
+    KeyboardInterrupt traceback). A Ctrl-C while the workers start (a thread started earlier, which
+    does not block it, may take it) is recorded and raised as the block ends, through the handler
+    in place before it. Only in the main thread (where signals are set)."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    before = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    # multiprocessing's resource tracker, started by the first worker's spawn, unblocks SIGINT in
+    # the thread that starts it (it blocks it only for its own start): started here, before the block
+    _resource_tracker.ensure_running()
+    seen: list[int] = []
+    before = signal.signal(signal.SIGINT, lambda signum, frame: seen.append(signum))
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
     try:
         yield
     finally:
-        signal.signal(signal.SIGINT, before)
+        signal.signal(signal.SIGINT, signal.SIG_DFL if before is None else before)
+        signal.pthread_sigmask(signal.SIG_SETMASK, mask)  # a held Ctrl-C is delivered here
+        if seen:
+            signal.raise_signal(signal.SIGINT)  # one taken by another thread while held
 
 
 def _quiet_worker_logs():

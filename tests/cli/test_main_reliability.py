@@ -5,6 +5,7 @@ import os
 import signal
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -245,10 +246,20 @@ def test_version():
     assert r.exit_code == 0 and __version__ in r.output
 
 
-def test_interrupted_focus_on_a_dask_cluster_leaves_nothing(tmp_path):
-    """Ctrl-C at the terminal (SIGINT to the whole process group, workers included) while the tiles
-    run on a local Dask cluster of 2 workers: exit 130, only salkit's own lines (no traceback, no
-    Dask log), no folder or partly written file, no worker process left running."""
+def _session_of(pid):
+    try:
+        return os.getsid(pid)
+    except OSError:
+        return None
+
+
+@pytest.mark.parametrize("when", ["while the workers start", "while the tiles run"])
+def test_interrupted_focus_on_a_dask_cluster_leaves_nothing(tmp_path, when):
+    """Ctrl-C at the terminal (SIGINT to the whole process group, workers included) on a local Dask
+    cluster of 2 workers, as soon as the first worker process exists (while the cluster starts: a
+    Ctrl-C then was once lost, and the job ran to its end) or once the tiles run: exit 130, only
+    salkit's own lines (no traceback, no Dask log), no folder or partly written file, no worker
+    process left running."""
     import psutil
     scen = tmp_path / "s.yaml"
     scen.write_text(yaml.safe_dump(merge(SPOT, processing__grid={"nx": 1024, "ny": 1024, "dx": 0.005,
@@ -256,15 +267,30 @@ def test_interrupted_focus_on_a_dask_cluster_leaves_nothing(tmp_path):
     assert cli("simulate", scen, "--out", tmp_path / "raw.nc").returncode == 0
     p = subprocess.Popen([sys.executable, "-m", "salkit.cli.main", "focus", tmp_path / "raw.nc", "--algorithm", "bp",
                           "--workers", "2", "--memory-limit", "8MiB", "--out", tmp_path / "out"],
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    err_lines, planned = [], threading.Event()
+
+    def read_stderr():
+        for line in p.stderr:
+            err_lines.append(line)
+            planned.set() if line.startswith("note: focusing") else None
+
+    reader = threading.Thread(target=read_stderr, daemon=True)
+    reader.start()
     me, workers, t0 = psutil.Process(p.pid), [], time.time()
-    while len(workers) < 2 and p.poll() is None and time.time() - t0 < 60:
+    while len(workers) < (1 if when == "while the workers start" else 2) and p.poll() is None \
+            and time.time() - t0 < 60:
         workers = [c for c in me.children(recursive=True) if "spawn_main" in " ".join(c.cmdline())]
-        time.sleep(0.1)
-    assert len(workers) == 2, p.communicate()
-    time.sleep(2.5)  # the workers started (a Ctrl-C while they start is not seen) and the tiles under way
+        time.sleep(0.02)
+    assert workers, "".join(err_lines)
+    if when == "while the tiles run":
+        assert planned.wait(60), "".join(err_lines)  # the plan is printed once the cluster is up
+        time.sleep(1.0)
     os.killpg(p.pid, signal.SIGINT)
-    _, err = p.communicate(timeout=60)
+    p.wait(timeout=60)
+    reader.join(10)
+    err = "".join(err_lines)
+    workers = [q for q in psutil.process_iter() if _session_of(q.pid) == p.pid]  # all it started
     lines = [x for x in err.splitlines() if x.strip() and "\u2501" not in x]
     assert p.returncode == 130, (p.returncode, err)
     assert all(x.startswith(("note:", "warning:", "interrupted:")) for x in lines), err
