@@ -183,6 +183,7 @@ def bench_tiles_scaling(n_pix: int = 8192, pulses: int = 2048, alg: str = "ffbp"
             f"{key}_speedup_of_median": one[len(one) // 2] / two[len(two) // 2],
             f"{key}_speedups_each_rep": " ".join(f"{a / b:.2f}" for a, b in zip(m["one"], m["two"])),
             f"{key}_plain_processes_speedup": plain1 / plain2,
+            f"{key}_plain_1_process_s": plain1, f"{key}_plain_2_processes_s": plain2,
             f"{key}_tiles": m["tiles"], f"{key}_same_image": m["same"],
             **({f"{key}_differences": json.dumps(m["diffs"])} if m["diffs"] else {})}
 

@@ -86,3 +86,27 @@ def test_ffbp_estimate_bounds_its_allocation():
     assert "ffbp" in what
     assert peak <= need < 5 * peak, (peak, need)
     assert np.isfinite(need)
+
+
+def test_local_cluster_workers_run_numba_on_one_thread_even_from_a_script(tmp_path):
+    """A script that imports salkit (so numba) at its top and starts a local cluster in its
+    ``__main__`` block: each worker imports the script again before the nanny's ``env`` applies,
+    so ``NUMBA_NUM_THREADS`` must be in the environment it is spawned with; otherwise every worker
+    of a 2-core machine ran its kernels on 2 threads (4 on the 2 cores, each tile twice as slow)."""
+    import os
+    import subprocess
+    import sys
+    script = tmp_path / "job.py"
+    script.write_text(
+        "import numba\n"
+        "import salkit.focus  # numba loaded here, and again by each worker\n"
+        "from salkit.resources import dask_client\n"
+        "def threads():\n"
+        "    return numba.config.NUMBA_NUM_THREADS, numba.get_num_threads()\n"
+        "if __name__ == '__main__':\n"
+        "    with dask_client(workers=2) as client:\n"
+        "        print(sorted(client.run(threads).values()), client.submit(threads, pure=False).result())\n")
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_NUM_THREADS"}  # as a user's shell has it
+    r = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120, env=env)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.strip().splitlines()[-1] == "[(1, 1), (1, 1)] (1, 1)", r.stdout
