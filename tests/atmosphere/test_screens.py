@@ -45,3 +45,27 @@ def test_batches_seeds_dtypes():
     assert c.dtype == np.float32 and not np.allclose(a, c)
     odd = phase_screens(37, 0.02, 0.1, count=2, seed=0)
     assert odd.shape == (2, 37, 37) and np.all(np.isfinite(odd))
+
+
+def test_amplitude_tables_kept_for_every_plane_of_an_ensemble_within_their_byte_bound(monkeypatch):
+    """An ensemble visits its planes (each its own spacing) in turn, realisation after realisation:
+    every plane's amplitude table is computed once, not once a screen (a cache of 4 tables visited
+    by 17 planes in turn never hit), the screens are the same whether the table was cached or not,
+    and the cache keeps to its byte bound, dropping the least recently used."""
+    from salkit.atmosphere import screens as scr
+    calls = []
+    real = scr._spectrum_table
+    monkeypatch.setattr(scr, "_spectrum_table", lambda *a: calls.append(a) or real(*a))
+    monkeypatch.setattr(scr, "_amplitude_cache", type(scr._amplitude_cache)())
+    spacings = [0.001 * (1 + 0.05 * i) for i in range(17)]
+    first = [phase_screens(64, dx, 0.05, seed=3) for dx in spacings]
+    again = [phase_screens(64, dx, 0.05, seed=3) for dx in spacings]
+    assert len(calls) == 17
+    assert all(np.array_equal(a, b) for a, b in zip(first, again))
+    one = scr._amplitude_cache[next(iter(scr._amplitude_cache))].nbytes
+    monkeypatch.setattr(scr, "AMPLITUDE_CACHE_BYTES", 3 * one)
+    phase_screens(64, 0.5, 0.05, seed=3)
+    assert len(scr._amplitude_cache) == 3 and (64, 0.5, 1.0, None, None) in scr._amplitude_cache
+    assert (64, spacings[0], 1.0, None, None) not in scr._amplitude_cache  # the least recently used
+    with pytest.raises(ValueError):
+        scr._amplitude_cache[(64, 0.5, 1.0, None, None)][0, 0] = 1.0  # read-only
