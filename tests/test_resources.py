@@ -89,24 +89,38 @@ def test_ffbp_estimate_bounds_its_allocation():
 
 
 def test_local_cluster_workers_run_numba_on_one_thread_even_from_a_script(tmp_path):
-    """A script that imports salkit (so numba) at its top and starts a local cluster in its
-    ``__main__`` block: each worker imports the script again before the nanny's ``env`` applies,
-    so ``NUMBA_NUM_THREADS`` must be in the environment it is spawned with; otherwise every worker
-    of a 2-core machine ran its kernels on 2 threads (4 on the 2 cores, each tile twice as slow)."""
+    """A script that imports salkit (so numba) at its top, runs a parallel kernel (its own numba
+    threads started, a thread a core) and starts a local cluster in its ``__main__`` block: each
+    worker imports the script again before the nanny's ``env`` applies, yet runs its kernels on one
+    thread (they ran on every core: 4 threads on 2 cores, each tile twice as slow); and the calling
+    process's environment is left alone, so that it compiles new kernels afterwards (setting the
+    workers' thread count through Dask's pre-spawn environment wrote it into the caller's
+    ``os.environ``, and numba there refused: "Cannot set NUMBA_NUM_THREADS ..."; `make demo` failed)."""
     import os
     import subprocess
     import sys
     script = tmp_path / "job.py"
     script.write_text(
+        "import os\n"
         "import numba\n"
+        "import numpy as np\n"
         "import salkit.focus  # numba loaded here, and again by each worker\n"
         "from salkit.resources import dask_client\n"
+        "from salkit.resources import task_numba_threads\n"
         "def threads():\n"
         "    return numba.config.NUMBA_NUM_THREADS, numba.get_num_threads()\n"
+        "def in_task():  # as salkit's tasks (tiles, sub-images, sweep points) begin\n"
+        "    task_numba_threads()\n"
+        "    return numba.njit(parallel=True)(lambda a: a.sum())(np.ones(10)), threads()\n"
         "if __name__ == '__main__':\n"
+        "    here = threads()\n"
+        "    numba.njit(parallel=True)(lambda a: a.sum())(np.ones(10))  # this process's threads started\n"
         "    with dask_client(workers=2) as client:\n"
-        "        print(sorted(client.run(threads).values()), client.submit(threads, pure=False).result())\n")
+        "        print(sorted(c for c, _ in client.run(threads).values()), client.submit(in_task, pure=False).result())\n"
+        "    assert 'NUMBA_NUM_THREADS' not in os.environ, os.environ['NUMBA_NUM_THREADS']\n"
+        "    numba.njit(parallel=True)(lambda a: a.max())(np.ones(10))  # compiles after the cluster\n"
+        "    print(threads() == here)\n")
     env = {k: v for k, v in os.environ.items() if k != "NUMBA_NUM_THREADS"}  # as a user's shell has it
     r = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120, env=env)
     assert r.returncode == 0, r.stderr
-    assert r.stdout.strip().splitlines()[-1] == "[(1, 1), (1, 1)] (1, 1)", r.stdout
+    assert r.stdout.strip().splitlines()[-2:] == ["[1, 1] (10.0, (1, 1))", "True"], r.stdout

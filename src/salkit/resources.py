@@ -14,6 +14,7 @@ import signal
 import sys
 import threading
 from contextlib import contextmanager
+from functools import lru_cache
 from multiprocessing import resource_tracker as _resource_tracker
 
 import lazy_loader as _lazy
@@ -21,6 +22,7 @@ import lazy_loader as _lazy
 from .errors import EnvironmentProblem, ResourceError, ScenarioError
 
 _dask_distributed = _lazy.load("dask.distributed", suppress_warning=True)
+_numba = _lazy.load("numba", suppress_warning=True)
 
 _LIMIT: int | None = None
 _UNITS = {"": 1, "b": 1, "k": 1e3, "kb": 1e3, "m": 1e6, "mb": 1e6, "g": 1e9, "gb": 1e9, "t": 1e12, "tb": 1e12,
@@ -213,23 +215,72 @@ def in_dask_task() -> bool:
         return False
 
 
-#: Dask settings of a local cluster salkit starts (its workers inherit them). One numba thread a
-#: worker, set before the worker process is spawned: a script's main module, imported again by each
-#: worker before the nanny's ``env`` applies, would load numba first with a thread a core (workers x
-#: cores threads on the cores). And Dask's own periodic work made rare: the statistical profiler
-#: (every 10 ms, for a dashboard salkit does not start), the event-loop tick (20 ms), the system and
-#: memory monitors (0.5 s, 0.1 s) and work stealing (0.1 s) together kept 0.18 of a core busy on an
-#: idle 2-worker cluster (0.024 with these settings, measured), taken from the tiles on a 2-core
-#: machine. A worker over its memory is still stopped within a second.
+#: Dask settings of a local cluster salkit starts (its workers inherit them): Dask's own periodic
+#: work made rare. The statistical profiler (every 10 ms, for a dashboard salkit does not start),
+#: the event-loop tick (20 ms), the system and memory monitors (0.5 s, 0.1 s) and work stealing
+#: (0.1 s) together kept 0.18 of a core busy on an idle 2-worker cluster (0.024 with these
+#: settings, measured), taken from the tiles on a 2-core machine. A worker over its memory is
+#: still stopped within a second.
 _LOCAL_CLUSTER_CONFIG = {
-    "distributed.nanny.pre-spawn-environ.NUMBA_NUM_THREADS": "1",
-    "distributed.nanny.pre-spawn-environ.OMP_NUM_THREADS": "1",
     "distributed.worker.profile.enabled": False,
     "distributed.admin.tick.interval": "1s",
     "distributed.admin.system-monitor.interval": "2s",
     "distributed.worker.memory.monitor-interval": "1s",
     "distributed.scheduler.work-stealing-interval": "1s",
 }
+
+#: The environment of each local worker: one numba (and BLAS) thread, the worker's one core.
+_LOCAL_WORKER_ENV = {"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
+
+
+def task_numba_threads() -> int:
+    """Called first in a Dask task salkit runs: numba kernels in this thread use the threads the
+    worker's environment gives (``NUMBA_NUM_THREADS``, one on a local cluster salkit starts), at
+    most the pool numba started with. A worker that loaded numba before its environment was set
+    (a script's main module, imported again by the worker) has a pool of a thread a core; without
+    this each of its kernels used them all.
+
+    Returns
+    -------
+    int
+        The threads this thread's kernels now use.
+    """
+    want = os.environ.get("NUMBA_NUM_THREADS")
+    if want and want.isdigit() and int(want) >= 1:
+        _numba.set_num_threads(min(int(want), _numba.config.NUMBA_NUM_THREADS))
+    return _numba.get_num_threads()
+
+
+def _reload_numba_config(worker=None):  # pragma: no cover - runs in the worker process (tested from a script)
+    """numba's configuration read again from this process's environment, before any task runs
+    (see :func:`_numba_threads_plugin`)."""
+    try:
+        _numba.core.config.reload_config()
+    except RuntimeError:  # its threads already run: tasks use fewer of them (task_numba_threads)
+        pass
+
+
+@lru_cache(maxsize=1)
+def _numba_threads_plugin_class():
+    class NumbaThreadsFromEnvironment(_dask_distributed.WorkerPlugin):
+        name = "salkit-numba-threads"
+
+        def setup(self, worker):  # pragma: no cover - in the worker process
+            _reload_numba_config(worker)
+
+    return NumbaThreadsFromEnvironment
+
+
+def _numba_threads_plugin():
+    """Dask worker plugin (registered on a local cluster salkit starts, so restarted workers get it
+    too): numba's configuration read again from the worker's environment before any task runs.
+    The nanny sets ``NUMBA_NUM_THREADS=1`` in the worker process only after that process has
+    imported the calling script's main module again; a script that imports salkit at its top has
+    loaded numba by then, configured for a thread a core (each worker then ran its kernels on every
+    core: workers x cores threads). Not through Dask's pre-spawn environment instead: the nanny
+    writes that into the calling process's own ``os.environ``, and numba there, its threads
+    running, would then refuse to compile anything more ("Cannot set NUMBA_NUM_THREADS ...")."""
+    return _numba_threads_plugin_class()()
 
 
 @contextmanager
@@ -270,8 +321,9 @@ def dask_client(scheduler: str | None = None, workers: int | None = None):
             try:
                 with _interrupts_held(), _dask_distributed.dask.config.set(_LOCAL_CLUSTER_CONFIG):
                     cluster = local(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1,
-                                    processes=True, dashboard_address=None)
+                                    processes=True, dashboard_address=":0", env=_LOCAL_WORKER_ENV)
                 client = _dask_distributed.Client(cluster)
+                client.register_plugin(_numba_threads_plugin())  # restarted workers too
                 client.run(_quiet_worker_logs)
             except BaseException:
                 if cluster is not None:

@@ -28,7 +28,7 @@ import scipy.fft as sfft
 from ..errors import DataFileError, ResourceError, ScenarioError
 from ..io.datasets import lazy_reads
 from ..io.formats import read_phase_data
-from ..resources import in_dask_task, size_text as gib
+from ..resources import in_dask_task, size_text as gib, task_numba_threads
 from ..signals.windows import Window
 from ..tolerances import BP_UPSAMPLE
 from .backprojection import backproject, profile_block
@@ -455,6 +455,7 @@ def tile_image(pulses, ig: ImageGrid, window: Window, tiling: Tiling, box, upsam
 def _tile_task(pulses, ig: ImageGrid, window: Window, tiling: Tiling, k: int, upsample: int, accuracy: str):
     """Dask task: tile ``k`` of the plan (top level, so workers import it); the worker reads its own
     pulses (a file's blocks) or holds the scattered phase history."""
+    task_numba_threads()
     i0, i1, j0, j1 = tiling.tiles[k]
     img, info = tile_image(pulses, ig, window, tiling, (i0, i1, j0, j1), upsample, accuracy)
     return k, img, info

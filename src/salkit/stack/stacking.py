@@ -10,7 +10,7 @@ from ..focus import run_memory_estimate
 from ..metrics.pointtarget import ipr_1d
 from ..params.models import Scenario
 from ..params.scenario import dump_scenario, parse_scenario
-from ..resources import dask_client
+from ..resources import dask_client, task_numba_threads
 from .subapertures import nearest_squints, point_target, squint_of, subimage
 
 _dask_distributed = _lazy.load("dask.distributed", suppress_warning=True)
@@ -79,6 +79,7 @@ def _subimage_chunk_task(base_dict: dict, indices: list, squints: list, noise: b
 
     Chunks amortise the per-task costs (scheduling, parsing the scenario) that otherwise take twice
     the compute of a sub-image."""
+    task_numba_threads()
     base = parse_scenario(base_dict)
     imgs = np.stack([subimage(base, q, i, noise) for i, q in zip(indices, squints)])
     return list(indices), (imgs.astype(np.complex64) if complex_ else (np.abs(imgs) ** 2).astype(np.float32))

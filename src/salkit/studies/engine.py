@@ -23,6 +23,7 @@ from .. import __version__
 from ..errors import SalkitError
 from ..io.datasets import write_dataset, write_json_atomic
 from ..params.scenario import dump_scenario, parse_scenario
+from ..resources import task_numba_threads
 from ..units import theory_name, unit_of
 from .plan import SweepPlan, make_plan, require_valid
 from .spec import Axis, parse_vary
@@ -183,7 +184,7 @@ def execute(plan: SweepPlan, invalid: dict, runner: Callable[..., dict], *, clie
         for i, r in todo:
             keep(i, r, runner(plan.point_data(i, r), plan.metrics, images is not None))
     else:
-        futures = {client.submit(runner, plan.point_data(i, r), plan.metrics, images is not None, pure=False,
+        futures = {client.submit(_point_task, runner, plan.point_data(i, r), plan.metrics, images is not None, pure=False,
                                  key=f"salkit-sweep-{plan.fingerprint()[:12]}-{i}-{r}"): (i, r) for i, r in todo}
         for fut in _dask_distributed.as_completed(futures):
             i, r = futures[fut]
@@ -192,6 +193,12 @@ def execute(plan: SweepPlan, invalid: dict, runner: Callable[..., dict], *, clie
     ds = assemble(plan, invalid, records)
     ds.attrs["sweep_seconds"] = float(time.perf_counter() - t0)
     return ds
+
+
+def _point_task(runner, *args):
+    """Dask task: one point of a sweep, its kernels on the worker's numba threads."""
+    task_numba_threads()
+    return runner(*args)
 
 
 def require_ok(ds: xr.Dataset, what: str) -> xr.Dataset:
