@@ -53,9 +53,14 @@ def test_plan_covers_the_grid_once_within_the_budget(alg):
 def test_refusals_name_the_memory_and_the_budget():
     with pytest.raises(ResourceError, match=r"pfa cannot run in tiles.*bp or ffbp"):
         plan_tiling(4000, 3000, 1000, 700, "pfa", 2 ** 20)
-    with pytest.raises(ResourceError, match=r"one tile of 32 x 32 pixels.* needs about [0-9.]+ MiB of memory, more "
+    with pytest.raises(ResourceError, match=r"one tile of 32 x 32 pixels.* needs about [0-9.]+ MiB of memory.*, more "
                                             r"than the 1 MiB available"):
         plan_tiling(4000, 3000, 1000, 700, "ffbp", 2 ** 20)
+    with pytest.raises(ResourceError, match=r"one tile of 32 x 32 pixels.* needs about [0-9.]+ MiB of memory \(32 MiB "
+                                            r"of it the whole image, assembled in memory; `salkit focus`"):
+        plan_tiling(243, 201, 2048, 2048, "bp", 16 * 2 ** 20)  # the image alone is over the budget
+    with pytest.raises(ResourceError, match=r"pulses needs about [0-9.]+ MiB of memory, more than"):
+        plan_tiling(243, 201, 2048, 2048, "bp", 2 ** 10, hold_image=False)  # into a file: the tile alone
 
 
 def test_tiled_backprojection_equals_the_untiled_image(scene, tmp_path):

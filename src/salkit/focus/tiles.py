@@ -227,10 +227,13 @@ def plan_tiling(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str,
         if blockable and pb > MIN_BLOCK:
             options.append((tx, ty, max(MIN_BLOCK, KERNEL_BLOCK * math.ceil(pb / 2 / KERNEL_BLOCK))))
         if not options:
+            image = 8.0 * nx * ny if hold_image else 0.0
             raise ResourceError(
                 f"{what}: one tile of {tx} x {ty} pixels" + (f" with blocks of {pb} pulses" if pb < n_pulses else "")
-                + f" needs about {gib(est)} of memory, more than the {gib(budget)} available (the budget); raise "
-                "--memory-limit"
+                + f" needs about {gib(est)} of memory"
+                + (f" ({gib(image)} of it the whole image, assembled in memory; `salkit focus` and "
+                   "focus_to_file write an image tile by tile into its file instead)" if image else "")
+                + f", more than the {gib(budget)} available (the budget); raise --memory-limit"
                 + (", or use fewer pulses or samples" if not blockable else ", or use fewer samples"))
         tx, ty, pb = min(options, key=lambda o: need(*o))
         est = need(tx, ty, pb)
