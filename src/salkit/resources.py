@@ -251,22 +251,17 @@ def task_numba_threads() -> int:
     return _numba.get_num_threads()
 
 
-def _reload_numba_config(worker=None):  # pragma: no cover - runs in the worker process (tested from a script)
-    """numba's configuration read again from this process's environment, before any task runs
-    (see :func:`_numba_threads_plugin`)."""
-    try:
-        _numba.core.config.reload_config()
-    except RuntimeError:  # its threads already run: tasks use fewer of them (task_numba_threads)
-        pass
-
-
 @lru_cache(maxsize=1)
 def _numba_threads_plugin_class():
+    """The class of :func:`_numba_threads_plugin`, made on first use (distributed loads lazily)."""
     class NumbaThreadsFromEnvironment(_dask_distributed.WorkerPlugin):
         name = "salkit-numba-threads"
 
-        def setup(self, worker):  # pragma: no cover - in the worker process
-            _reload_numba_config(worker)
+        def setup(self, worker):  # pragma: no cover - in the worker process (tested from a script)
+            try:
+                _numba.core.config.reload_config()
+            except RuntimeError:  # its threads already run: tasks use fewer of them (task_numba_threads)
+                pass
 
     return NumbaThreadsFromEnvironment
 
@@ -276,10 +271,10 @@ def _numba_threads_plugin():
     too): numba's configuration read again from the worker's environment before any task runs.
     The nanny sets ``NUMBA_NUM_THREADS=1`` in the worker process only after that process has
     imported the calling script's main module again; a script that imports salkit at its top has
-    loaded numba by then, configured for a thread a core (each worker then ran its kernels on every
-    core: workers x cores threads). Not through Dask's pre-spawn environment instead: the nanny
-    writes that into the calling process's own ``os.environ``, and numba there, its threads
-    running, would then refuse to compile anything more ("Cannot set NUMBA_NUM_THREADS ...")."""
+    loaded numba by then, configured for a thread a core, and a kernel compiled later in that
+    worker would be refused ("Cannot set NUMBA_NUM_THREADS ..."). Not through Dask's pre-spawn
+    environment instead: the nanny writes that into the calling process's own ``os.environ``, and
+    numba there, its threads running, would then refuse to compile anything more."""
     return _numba_threads_plugin_class()()
 
 
