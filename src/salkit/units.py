@@ -37,7 +37,7 @@ NAMED: dict[str, str] = {
     "center_position": "m", "scene_center": "m", "aperture_center": "m", "plane_origin": "m", "grid_dx": "m",
     "grid_dy": "m", "frequency_min": "Hz", "frequency_max": "Hz", "fringe_period_theory": "m",
     "irw_azimuth_theory": "m", "irw_range_theory": "m", "islr_theory": "dB", "pslr_theory": "dB",
-    "illuminated_azimuth": "m", "illuminated_range": "m", "range_reference": "m", "collection_time_nominal": "s",
+    "illuminated_azimuth": "m", "illuminated_range": "m", "range_reference": "m",
 }
 
 #: Units a value is shown in so that it stays between 1 and 1000 (largest first).

@@ -11,8 +11,9 @@ from .conftest import salkit
 def test_info_on_every_shipped_example(name):
     """`salkit info` works where `salkit run` does (an experiment checks its own sampling), and says
     the unit of every quantity it prints."""
-    r = salkit("info", EXAMPLES / f"{name}.yaml")
+    r = salkit("info", EXAMPLES / f"{name}.yaml", "--json")
     assert r.returncode == 0, r.stderr
+    assert salkit("info", EXAMPLES / f"{name}.yaml").returncode == 0
     d = json.loads(r.stdout)
     assert d["name"] == name and d["units"]
     from salkit.units import NAMED
@@ -26,3 +27,42 @@ def test_examples_listed():
     assert r.returncode == 0
     for f in EXAMPLES.glob("*.yaml"):
         assert f.name in r.stdout
+
+
+def test_info_prints_a_human_summary_and_verifies_every_chunk(tmp_path):
+    """`salkit info FILE` says in a few lines what a file holds (kind, sizes, grid, frequencies,
+    brightest sample) after reading every chunk against its checksum; `--json` gives the same to
+    machines, flags as booleans; a file with a corrupted chunk exits 2 naming the file and the
+    variable (it used to exit 0 without a word)."""
+    import numpy as np
+    from ..conftest import SPOT
+    import yaml
+    scen = tmp_path / "s.yaml"
+    scen.write_text(yaml.safe_dump(SPOT))
+    out = tmp_path / "run"
+    assert salkit("run", scen, "--out", out).returncode == 0
+    r = salkit("info", out / "image.nc")
+    assert r.returncode == 0, r.stderr
+    text = r.stdout
+    assert "salkit image file" in text and "128 azimuth x 128 range complex64" in text
+    assert "pixel 1.5 cm" in text and "brightest image sample" in text and "checksums: verified" in text
+    assert "THz" in text and "GHz" in text and len(text.splitlines()) <= 12
+    d = json.loads(salkit("info", out / "image.nc", "--json").stdout)
+    assert d["checksums_verified"] is True and d["collection_time_nominal"] in (True, False)
+    assert "collection_time_nominal" not in d["units"]  # a flag, not a time
+    i, j = d["brightest_image_index"]
+    assert abs(i - 64) <= 1 and abs(j - 64) <= 1  # the target at the grid's centre
+    raw = out / "raw.nc"
+    assert "salkit raw file" in salkit("info", raw).stdout
+    # corrupt one byte pattern in the middle of the image's data
+    bad = tmp_path / "bad.nc"
+    data = bytearray((out / "image.nc").read_bytes())
+    from salkit.io import open_dataset
+    img = np.asarray(open_dataset(out / "image.nc")["image"].values)
+    needle = img[60:61, :].tobytes()[:64]
+    k = data.find(needle)
+    assert k > 0
+    data[k:k + 16] = bytes(16)
+    bad.write_bytes(bytes(data))
+    r = salkit("info", bad)
+    assert r.returncode == 2 and str(bad) in r.stderr and "'image'" in r.stderr and "corrupt" in r.stderr

@@ -40,3 +40,46 @@ def test_directory_given_as_a_file(tmp_path, command, suffix):
     r = salkit(command, d, *args)
     assert r.returncode == 2
     assert f"{d}: is a directory, not a file" in r.stderr and "Traceback" not in r.stderr
+
+
+def test_a_misspelt_key_is_named_as_written_with_the_nearest_valid_key(tmp_path):
+    """A typo in a scenario file, in --set, in --vary or in a sweep file's keys names the key as the
+    user wrote it and the nearest valid key (it used to say "waveform.bandwidth is required" and never
+    name the typo)."""
+    import yaml
+    from ..conftest import SPOT
+    from .conftest import salkit
+    d = yaml.safe_load(yaml.safe_dump(SPOT))
+    d["waveform"]["bandwidht"] = d["waveform"].pop("bandwidth")
+    bad = tmp_path / "typo.yaml"
+    bad.write_text(yaml.safe_dump(d))
+    r = salkit("run", bad, "--out", tmp_path / "o")
+    assert r.returncode == 2 and "waveform.bandwidht" in r.stderr and "did you mean 'bandwidth'?" in r.stderr
+    good = tmp_path / "good.yaml"
+    good.write_text(yaml.safe_dump(SPOT))
+    r = salkit("run", good, "--out", tmp_path / "o", "--set", "waveform.bandwdth=5e9")
+    assert r.returncode == 2 and "waveform.bandwdth" in r.stderr and "did you mean 'bandwidth'?" in r.stderr
+    r = salkit("run", good, "--out", tmp_path / "o", "--set", "wavefrom.prf=5e3")
+    assert r.returncode == 2 and "did you mean 'waveform'?" in r.stderr
+    r = salkit("sweep", good, "--out", tmp_path / "o", "--vary", "waveform.bandwdth=1e9,2e9")
+    assert r.returncode == 2 and "waveform.bandwdth" in r.stderr and "did you mean 'bandwidth'?" in r.stderr
+    sw = tmp_path / "sw.yaml"
+    sw.write_text(yaml.safe_dump({"sweep": 1, "scenario": str(good), "vary": {"waveform.bandwidth": "5e9,6e9"},
+                                  "realisatons": 2}))
+    r = salkit("sweep", sw, "--out", tmp_path / "o")
+    assert r.returncode == 2 and "realisatons" in r.stderr and "did you mean 'realisations'?" in r.stderr
+    assert not (tmp_path / "o").exists()
+
+
+def test_a_scenario_given_where_data_are_expected_says_so(tmp_path):
+    """`salkit focus scenario.yaml` (or a scenario renamed .nc) says it is a scenario and names
+    `salkit run`, instead of "cannot be read as NetCDF4/HDF5 (truncated or corrupt?)"."""
+    import shutil
+    from ..conftest import EXAMPLES
+    from .conftest import salkit
+    src = EXAMPLES / "spotlight_points.yaml"
+    for path in (src, tmp_path / "looks_like_data.nc"):
+        if path != src:
+            shutil.copy(src, path)
+        r = salkit("focus", path, "--out", tmp_path / "o")
+        assert r.returncode == 2 and "scenario file" in r.stderr and "salkit run" in r.stderr, r.stderr

@@ -33,7 +33,7 @@ def test_simulate_then_focus_with_other_algorithm(tmp_path, scen):
     assert r.returncode == 0, r.stderr
     m = json.loads((tmp_path / "f" / "metrics.json").read_text())
     assert m["irw_azimuth_m"] == pytest.approx(m["irw_azimuth_theory_m"], rel=0.03)
-    r = salkit("info", raw)
+    r = salkit("info", raw, "--json")
     assert r.returncode == 0
     d = json.loads(r.stdout)  # typed: flags are booleans, numbers numbers, with their units
     assert d["iq"] is True and d["noise_added"] is False and isinstance(d["prf"], float)

@@ -26,7 +26,7 @@ def test_sweep_writes_a_complete_folder(tmp_path, scen):
     ds = open_dataset(out / "sweep.nc")
     assert ds["irw_range_m"].dims == ("waveform.bandwidth", "processing.window", "realisation")
     assert json.loads((out / "metrics.json").read_text())["sweep_points_ok"] == 4
-    info = salkit("info", out / "sweep.nc")
+    info = salkit("info", out / "sweep.nc", "--json")
     assert info.returncode == 0 and '"kind": "sweep"' in info.stdout
     assert salkit("verify", out).returncode == 0
 
@@ -87,6 +87,7 @@ def test_interrupted_sweep_resumes(tmp_path, scen, monkeypatch):
     out = tmp_path / "cut"
     r = salkit(*args, "--out", out)
     assert r.returncode == 130 and not out.exists()
+    assert "kept in" in r.stderr and ".cut.resume" in r.stderr and "--resume" in r.stderr  # not "nothing left"
     # a killed machine leaves its staging folder, not .cut.resume: make it look like that
     resume = tmp_path / ".cut.resume"
     assert (resume / "checkpoint").is_dir()

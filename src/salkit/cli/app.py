@@ -86,6 +86,8 @@ def _guard(fn):
     busy folder), 130 when interrupted, each with one line; ``--debug`` shows the traceback."""
     @functools.wraps(fn)
     def wrapper(*a, **k):
+        from ..io.runfolder import KEPT_FOR_RESUME
+        KEPT_FOR_RESUME.update(resume=None, out=None)
         try:
             return _limited(fn, *a, **k)
         except (typer.Exit, typer.Abort, SystemExit):
@@ -96,7 +98,12 @@ def _guard(fn):
             _say(str(e))
             raise typer.Exit(code=e.exit_code)
         except KeyboardInterrupt:
-            err.print("interrupted: nothing was left behind")
+            if KEPT_FOR_RESUME["resume"]:
+                err.print(f"interrupted: no output folder was written; the finished work is kept in "
+                          f"{KEPT_FOR_RESUME['resume']}: the same command (with --resume for a sweep) continues from it "
+                          f"into {KEPT_FOR_RESUME['out']}; delete it to start afresh", highlight=False, soft_wrap=True)
+            else:
+                err.print("interrupted: nothing was left behind")
             raise typer.Exit(code=130)
         except MemoryError:
             if _STATE["debug"]:

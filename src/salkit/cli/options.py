@@ -90,9 +90,10 @@ def print_headline(m: dict) -> None:
     m : dict
         The run's metrics.
     """
-    from ..report.index import headline
+    from ..report.judge import headline, verdict
     for i in headline(m):
-        mark = {True: "[green]ok[/]", False: "[red]outside tolerance[/]", None: ""}[i["ok"]]
+        v = verdict(i["ok"])
+        mark = f"[{v['colour']}]{v['word']}[/]" + (f" ({i['why']})" if i["ok"] is None else "")
         out.print(f"  {i['label']:<34} {i['measured']:>10}  {i['reference']:<26} {i['delta']:<13} {mark}",
                   highlight=False, soft_wrap=True)
 

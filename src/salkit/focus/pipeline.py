@@ -161,10 +161,11 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
         pulses = DatasetPulses(raw, chirp)
         ph = pulses.geometry()
     else:
-        with lazy_reads("signal"):
+        source = raw.encoding.get("source")
+        with lazy_reads("signal", source):
             ph = phase_history(raw, chirp)
         if not held and not np.isfinite(ph.data).all():  # a lazily opened file is checked as it is read
-            raise DataFileError("variable 'signal' has non-finite values")
+            raise DataFileError(f"{source + ': ' if source else ''}variable 'signal' has non-finite values")
         pulses = InMemoryPulses(ph)
     if plane is not None:
         check_choice("plane", plane, PLANES)

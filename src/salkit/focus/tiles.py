@@ -290,7 +290,7 @@ class DatasetPulses:
         self.raw, self.chirp = raw, chirp_correction
         self.source = raw.encoding.get("source")  # the file, when opened from one: workers reopen it
         P = raw.sizes["slow_time"]
-        with lazy_reads("signal"):
+        with lazy_reads("signal", self.source):
             probe = phase_history(raw.isel(slow_time=[0, P // 2, P - 1]), chirp_correction)  # first, centre, last
         self.track, self.center_position = probe.track, probe.center_position
         self.probe = probe
@@ -302,10 +302,11 @@ class DatasetPulses:
 
     def block(self, a: int, b: int) -> PhaseHistory:
         """Pulses ``a`` to ``b``, read and range-compressed now."""
-        with lazy_reads("signal"):
+        with lazy_reads("signal", self.source):
             ph = phase_history(self.raw.isel(slow_time=slice(a, b)), self.chirp)
         if not np.isfinite(ph.data).all():
-            raise DataFileError(f"variable 'signal': non-finite values in pulses {a} to {b - 1}")
+            where = f"{self.source}: " if self.source else ""
+            raise DataFileError(f"{where}variable 'signal': non-finite values in pulses {a} to {b - 1}")
         return dataclasses.replace(ph, track=self.track, center_position=self.center_position)
 
     def whole(self) -> PhaseHistory:
@@ -314,7 +315,7 @@ class DatasetPulses:
         key = (self.source, self.chirp) if self.source and in_dask_task() else None
         if key is not None and _WHOLE.get("key") == key:
             return _WHOLE["ph"]
-        with lazy_reads("signal"):
+        with lazy_reads("signal", self.source):
             ph = phase_history(self.raw, self.chirp)
         if key is not None:
             _WHOLE.clear()

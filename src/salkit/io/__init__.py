@@ -7,14 +7,14 @@ Modules: :mod:`~salkit.io.datasets` (salkit datasets, atomic writes), :mod:`~sal
 :mod:`~salkit.io.runfolder` (run folders complete or absent).
 """
 from .cphd import check_cphd, read_cphd, write_cphd
-from .datasets import (ChunkedFileWriter, ImageFileWriter, brightest_window, preview, describe, input_file, make_image_dataset, make_raw_dataset, open_dataset, read_image,
+from .datasets import (ChunkedFileWriter, ImageFileWriter, describe, input_file, make_image_dataset, make_raw_dataset, open_dataset, read_image,
                        read_raw, write_dataset, write_json_atomic, write_text_atomic)
 from .formats import PHASE_SUFFIXES, read_phase_data
 from .gotcha import read_gotcha, write_gotcha
 from .ingest import normalise_phase_history, regularise_axis
 from .sicd import check_sicd, read_sicd, write_sicd
 
-__all__ = ["ChunkedFileWriter", "ImageFileWriter", "brightest_window", "preview", "PHASE_SUFFIXES", "check_cphd", "check_sicd", "describe", "input_file", "make_image_dataset",
+__all__ = ["ChunkedFileWriter", "ImageFileWriter", "PHASE_SUFFIXES", "check_cphd", "check_sicd", "describe", "input_file", "make_image_dataset",
            "make_raw_dataset", "normalise_phase_history", "open_dataset", "read_cphd", "read_gotcha", "read_image",
            "read_phase_data", "read_raw", "read_sicd", "regularise_axis", "write_cphd", "write_dataset",
            "write_gotcha", "write_json_atomic", "write_sicd", "write_text_atomic"]

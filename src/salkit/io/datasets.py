@@ -16,6 +16,7 @@ from typing import Any
 
 import lazy_loader as _lazy
 import numpy as np
+import yaml
 import xarray as xr
 
 from ..errors import DataFileError
@@ -194,78 +195,72 @@ def make_image_dataset(image: np.ndarray, az: np.ndarray, rg: np.ndarray, plane,
 
 
 @contextmanager
-def lazy_reads(name: str = "signal"):
+def lazy_reads(name: str = "signal", source=None):
     """Reads of a lazily opened file (:func:`open_dataset` ``lazy=True``) inside the block: a chunk
-    that fails its checksum or cannot be decoded raises :class:`DataFileError` naming the variable,
-    as an eager open would.
+    that fails its checksum or cannot be decoded raises :class:`DataFileError` naming the file and
+    the variable, as an eager open would.
 
     Parameters
     ----------
     name : str
         The variable being read.
+    source : path, optional
+        The file (a dataset's or a lazily read variable's ``encoding["source"]``).
     """
     try:
         yield
     except OSError as e:  # h5py reports a failed filter (fletcher32) or a bad read as OSError
-        raise DataFileError(f"variable '{name}' fails its checksum (fletcher32) or cannot be decoded: the file is "
-                            f"corrupted ({e})") from None
+        where = f"{source}: " if source else ""
+        raise DataFileError(f"{where}variable '{name}' fails its checksum (fletcher32) or cannot be decoded: the "
+                            f"file is corrupted ({e})") from None
 
 
-def brightest_window(image: xr.Dataset, half: int = 128, block: int = 4096) -> xr.Dataset:
-    """The window of ``image`` centred on its brightest pixel, found a block at a time: an image
-    larger than memory (opened lazily) is read once, one block in memory at a time.
-
-    Parameters
-    ----------
-    image : xarray.Dataset
-        A salkit image (``image`` (azimuth, range)).
-    half : int
-        Half the window's side, pixels.
-    block : int
-        Rows read at a time.
-
-    Returns
-    -------
-    xarray.Dataset
-        ``image.isel(...)`` of at most (2 half) x (2 half) pixels, loaded, with the image's
-        attributes and coordinates.
-    """
-    v = image["image"]
-    nx, ny = v.shape
-    best, at = -1.0, (0, 0)
-    with lazy_reads("image"):
-        for a in range(0, nx, block):
-            mag = np.abs(np.asarray(v[a:a + block].values))
-            k = int(np.argmax(mag))
-            if mag.flat[k] > best:
-                best, at = float(mag.flat[k]), (a + k // ny, k % ny)
-    i0, j0 = max(0, at[0] - half), max(0, at[1] - half)
-    sub = image.isel(azimuth=slice(i0, min(nx, at[0] + half)), range=slice(j0, min(ny, at[1] + half)))
-    return sub.drop_vars([n for n in ("collection_position", "collection_time") if n in sub]).load()
-
-
-def preview(image: xr.Dataset, max_pixels: int = 2048) -> xr.Dataset:
-    """Every k-th pixel of ``image`` in each direction, at most ``max_pixels`` a side, for a figure
-    of an image larger than memory (the ``preview_step`` attribute says k).
+def blocks(values, target_bytes: int = 4 << 20, multiple: int = 1):
+    """``(row, column, block)`` of a 2-D array, read a block at a time in row-major order: an array in
+    memory is sliced into blocks of whole rows; a variable of a lazily opened file
+    (:func:`open_dataset` ``lazy=True``) is read in blocks of whole chunks (each chunk read and
+    checksummed once; a chunk row wider than ``target_bytes`` is cut into groups of chunk columns),
+    and a chunk that fails its checksum raises :class:`DataFileError` naming the variable.
 
     Parameters
     ----------
-    image : xarray.Dataset
-    max_pixels : int
+    values : array-like (n, m)
+        ndarray or ``xarray.DataArray``.
+    target_bytes : int
+        About this many bytes a block (at least one chunk, and ``multiple`` rows and columns).
+    multiple : int
+        Blocks start at multiples of this many rows and columns.
 
-    Returns
-    -------
-    xarray.Dataset
-        Loaded; the image itself when it is small enough.
+    Yields
+    ------
+    (int, int, ndarray)
+        First row and column of the block, and the block, in memory.
+
+    Examples
+    --------
+    >>> [(a, b, x.shape) for a, b, x in blocks(np.zeros((5, 3)), target_bytes=48)]
+    [(0, 0, (2, 3)), (2, 0, (2, 3)), (4, 0, (1, 3))]
     """
-    k = max(1, -(-max(image.sizes["azimuth"], image.sizes["range"]) // max_pixels))
-    if k == 1:
-        return image
-    with lazy_reads("image"):
-        small = image[["image"] + [n for n in ("target_azimuth", "target_range") if n in image]].isel(
-            azimuth=slice(None, None, k), range=slice(None, None, k)).load()
-    small.attrs["preview_step"] = k
-    return small
+    n, m = values.shape
+    item = max(int(getattr(values.dtype, "itemsize", 8)), 1)
+    enc = getattr(values, "encoding", {}) or {}
+    chunks = enc.get("chunksizes") or enc.get("chunks")
+    if chunks and len(chunks) == 2:
+        cr, cc = (int(c) for c in chunks)
+        per = max(1, target_bytes // (cr * cc * item))  # chunks a block
+        cols = min(m, cc * max(1, min(per, -(-m // cc))))
+        rows = cr * max(1, per // max(1, -(-cols // cc)))
+    else:
+        cols = m
+        rows = max(1, target_bytes // (m * item))
+    rows = -(-rows // multiple) * multiple
+    cols = m if cols >= m else -(-cols // multiple) * multiple
+    name = getattr(values, "name", None) or "image"
+    for a in range(0, n, rows):
+        for b in range(0, m, cols):
+            with lazy_reads(str(name), enc.get("source")):
+                blk = np.asarray(values[a:a + rows, b:b + cols])
+            yield a, b, blk
 
 
 class ChunkedFileWriter:
@@ -305,17 +300,27 @@ class ChunkedFileWriter:
             self.file = _h5netcdf.File(self.tmp, "a", invalid_netcdf=True)
             shape = tuple(template.sizes[d] for d in dims)
             ch = tuple(max(1, min(int(c), n)) for c, n in zip(chunks, shape))
-            self.var = self.file.create_variable(name, tuple(dims), dtype=np.complex64, chunks=ch, fletcher32=True)
-            for k, v in (attrs or {}).items():
-                self.var.attrs[k] = v
+            self.vars = {}
+            self.create(name, dims, ch, attrs)
+            self.var = self.vars[name]
         except OSError as e:
             self.discard()
             raise EnvironmentProblem(f"cannot write {self.path}: {_os_reason(e)}") from None
 
-    def write(self, i0: int, j0: int, block: np.ndarray) -> None:
-        """Store a block at offsets (``i0``, ``j0``)."""
+    def create(self, name: str, dims, chunks, attrs: dict | None = None) -> None:
+        """Create one more chunked complex64 variable on existing dimensions, filled by :meth:`write`."""
+        shape = tuple(self.file.dimensions[d].size for d in dims)
+        ch = tuple(max(1, min(int(c), n)) for c, n in zip(chunks, shape))
+        var = self.file.create_variable(name, tuple(dims), dtype=np.complex64, chunks=ch, fletcher32=True)
+        for k, v in (attrs or {}).items():
+            var.attrs[k] = v
+        self.vars[name] = var
+
+    def write(self, i0: int, j0: int, block: np.ndarray, name: str | None = None) -> None:
+        """Store a block at offsets (``i0``, ``j0``) of the variable (default the first one)."""
+        var = self.var if name is None else self.vars[name]
         try:
-            self.var[i0:i0 + block.shape[0], j0:j0 + block.shape[1]] = np.asarray(block, np.complex64)
+            var[i0:i0 + block.shape[0], j0:j0 + block.shape[1]] = np.asarray(block, np.complex64)
         except OSError as e:
             self.discard()
             raise EnvironmentProblem(f"cannot write {self.path}: {_os_reason(e)}") from None
@@ -422,6 +427,26 @@ def _checksum_encoding(ds: xr.Dataset) -> dict:
     return enc
 
 
+STREAMED_VARIABLE_BYTES = 16 << 20  # a complex 2-D variable larger than this is written a block at a time
+
+
+def _write_streamed(ds: xr.Dataset, template: xr.Dataset, big: list, path) -> Path:
+    """Write ``ds`` with its large complex variables ``big`` streamed a block of about 4 MiB at a time
+    into chunked variables (:class:`ChunkedFileWriter`), so that writing adds no copy of them."""
+    first, rest = big[0], big[1:]
+    v = ds[first]
+    rows = max(1, (4 << 20) // (8 * v.shape[1]))
+    with ChunkedFileWriter(path, template, first, v.dims, (rows, v.shape[1]), attrs=dict(v.attrs)) as w:
+        for name in [first, *rest]:
+            var = ds[name]
+            if name != first:
+                w.create(name, var.dims, (rows, var.shape[1]), attrs=dict(var.attrs))
+            for a in range(0, var.shape[0], rows):
+                w.write(a, 0, np.asarray(var.values[a:a + rows]), name=name)
+        w.close()
+    return Path(path)
+
+
 def write_dataset(ds: xr.Dataset, path: str | Path) -> Path:
     """Write ``ds`` to NetCDF4/HDF5 atomically (temporary file in the same folder, then rename),
     with a fletcher32 checksum on every array variable, so that corruption is detected on reading.
@@ -440,9 +465,15 @@ def write_dataset(ds: xr.Dataset, path: str | Path) -> Path:
     EnvironmentProblem
         The file cannot be written (permissions, a full disk); nothing is left behind.
     """
+    big = [n for n, v in ds.data_vars.items()
+           if v.ndim == 2 and v.dtype == np.complex64 and v.nbytes > STREAMED_VARIABLE_BYTES]
+    template = ds.drop_vars(big)
+    if big and all(d in template.sizes for n in big for d in ds[n].dims):
+        return _write_streamed(ds, template, big, path)
     # HDF5 is written in memory, then copied with plain file I/O: a full disk then fails in
     # Python's write (a clean OSError), never inside HDF5, whose failed flush at exit crashes the
-    # interpreter
+    # interpreter. A large complex array is streamed into the file instead (_write_streamed), so that
+    # writing holds no copy of it.
     buf = io.BytesIO()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -513,6 +544,35 @@ def write_json_atomic(path: str | Path, obj: Any) -> Path:
     return write_text_atomic(path, json.dumps(clean(obj), indent=2, allow_nan=False) + "\n")
 
 
+def scenario_hint(path: str | Path) -> str:
+    """``"; it is a scenario file: ..."`` where ``path`` looks like a salkit scenario (a YAML mapping
+    with scenario sections), else ``""``: for the error of a command given a scenario where data are
+    expected.
+
+    Parameters
+    ----------
+    path : str or Path
+
+    Returns
+    -------
+    str
+    """
+    p = Path(path)
+    try:
+        with open(p, "rb") as fh:
+            head = fh.read(65536)
+        doc = yaml.safe_load(head.decode("utf-8"))
+    except Exception:  # noqa: BLE001 - binary or not YAML: not a scenario
+        return ""
+    sections = {"waveform", "platform", "scene", "receiver", "processing", "experiment", "sweep", "vary"}
+    if not isinstance(doc, dict) or not sections & set(doc):
+        return ""
+    if "sweep" in doc or "vary" in doc:
+        return f"; it is a sweep file: run it with `salkit sweep {p} --out DIR`"
+    return (f"; it is a scenario file, not data: `salkit run {p} --out DIR` simulates and focuses it, "
+            f"`salkit simulate {p} --out raw.nc` writes its raw data")
+
+
 def input_file(path: str | Path) -> Path:
     """``path`` as an existing regular file to read, or a :class:`DataFileError` that says what it
     is instead (missing, a directory, a device or pipe).
@@ -565,7 +625,11 @@ def open_dataset(path: str | Path, lazy: bool = False) -> xr.Dataset:
         if lazy:
             ds = xr.open_dataset(p, engine="h5netcdf", cache=False)  # what is read is not kept
             small = [n for n, v in ds.data_vars.items() if n not in ("signal", "image") and v.nbytes <= 64 * 2 ** 20]
-            return ds.assign({n: ds[n].load() for n in small})
+            ds = ds.assign({n: ds[n].load() for n in small})
+            for n in ds.data_vars:  # a lazily read variable names its file in any error
+                if n not in small:
+                    ds[n].encoding["source"] = str(p)
+            return ds
         with xr.open_dataset(p, engine="h5netcdf") as ds:
             ds = ds.load()
     except Exception as err:  # noqa: BLE001 - truncated/corrupt files raise many types
@@ -573,6 +637,9 @@ def open_dataset(path: str | Path, lazy: bool = False) -> xr.Dataset:
         if bad is not None:
             raise DataFileError(f"{p}: variable '{bad}' fails its checksum (fletcher32) or cannot be decoded: "
                                 "the file is corrupted") from None
+        hint = scenario_hint(p)
+        if hint:
+            raise DataFileError(f"{p}: is not a NetCDF4/HDF5 data file{hint}") from None
         raise DataFileError(f"{p}: cannot be read as NetCDF4/HDF5 (truncated or corrupt?): "
                             f"{type(err).__name__}: {err}") from None
     return ds

@@ -7,7 +7,7 @@ import xarray as _xr
 
 from ..errors import DataFileError as _E
 from .cphd import read_cphd
-from .datasets import read_raw
+from .datasets import read_raw, scenario_hint
 from .gotcha import read_gotcha
 
 PHASE_SUFFIXES = {".nc": "NetCDF", ".h5": "NetCDF", ".cphd": "CPHD", ".mat": "GOTCHA .mat"}
@@ -41,7 +41,7 @@ def read_phase_data(path, lazy: bool = False) -> "_xr.Dataset":
         return read_gotcha(path)
     if suf in (".nc", ".h5", ".nc4", ".hdf5"):
         return read_raw(path, lazy=lazy)
-    raise _E(f"{path}: unknown suffix {suf!r}; salkit reads {', '.join(PHASE_SUFFIXES)}")
+    raise _E(f"{path}: unknown suffix {suf!r}; salkit reads {', '.join(PHASE_SUFFIXES)}{scenario_hint(path)}")
 
 
 # Complex variables are HDF5 compound types that only the h5netcdf engine decodes as complex.

@@ -28,6 +28,9 @@ MANIFEST = "manifest.json"
 #: Set by the command line's SIGINT/SIGTERM handler: a run that completes after it is discarded
 #: (a handler's exception can be swallowed when it lands inside a finaliser).
 INTERRUPTED = {"signal": None}
+#: What the last failed or interrupted run kept for resuming: the ``.NAME.resume`` folder and the
+#: output folder it belongs to (None when nothing was kept), so that the command can say so.
+KEPT_FOR_RESUME: dict = {"resume": None, "out": None}
 
 
 def sha256_file(path: Path, chunk: int = 1 << 20) -> str:
@@ -256,6 +259,7 @@ class RunFolder:
                     if (self.resume / n).exists():
                         shutil.rmtree(self.resume / n, ignore_errors=True)
                     os.replace(self.tmp / n, self.resume / n)
+                KEPT_FOR_RESUME.update(resume=str(self.resume), out=str(self.parent / self.name))
             shutil.rmtree(self.tmp, ignore_errors=True)
         if self._lock_fh is not None:
             try:

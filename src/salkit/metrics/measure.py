@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from .image import contrast, entropy
+from .image import brightest_pixel, contrast_from_moments, entropy_from_moments, intensity_moments
 from .pointtarget import analyse_point
 from ..signals.phase import wrap
 from ..constants import SPEED_OF_LIGHT
@@ -49,8 +49,8 @@ def image_phase_model(image: xr.Dataset):
     return fn
 
 
-def measure(image: xr.Dataset, truth: np.ndarray | None = None, reflectivity_phase: float | None = None,
-            details: bool = False) -> dict:
+def measure(image: xr.Dataset, truth: np.ndarray | None = None, reflectivity_phase=None,
+            details: bool = False, moments: dict | None = None) -> dict:
     """Measure a focused image against theory.
 
     Parameters
@@ -60,10 +60,16 @@ def measure(image: xr.Dataset, truth: np.ndarray | None = None, reflectivity_pha
         and theory attributes as written by :func:`salkit.focus`).
     truth : ndarray (T, 2), optional
         Expected target positions (azimuth, range), m; default the file's ``target_*`` variables.
-    reflectivity_phase : float, optional
-        Phase (rad) of the brightest target's reflectivity; the processor should return it at the peak.
+    reflectivity_phase : float or sequence of float, optional
+        Phase (rad) of the brightest target's reflectivity; the processor should return it at the
+        peak. A sequence gives one phase per truth target, and the phase of the target nearest the
+        peak is used (so the image is analysed once).
     details : bool
         Also return the upsampled cuts (keys starting with ``_``) for plotting.
+    moments : dict, optional
+        :func:`salkit.metrics.image.intensity_moments` of the whole image, when ``image`` is a
+        window of a larger one (an image written tile by tile): entropy and contrast are then the
+        whole image's, as in memory.
 
     Returns
     -------
@@ -78,7 +84,7 @@ def measure(image: xr.Dataset, truth: np.ndarray | None = None, reflectivity_pha
     res_az = float(at.get("resolution_azimuth", 2 * (az[1] - az[0])))
     res_rg = float(at.get("resolution_range", 2 * (rg[1] - rg[0])))
     phase_fn = image_phase_model(image)
-    m = analyse_point(img, az, rg, res_az, res_rg, phase_fn=phase_fn)
+    m = analyse_point(img, az, rg, res_az, res_rg, peak=brightest_pixel(img), phase_fn=phase_fn)
     out = {k: v for k, v in m.items() if details or not k.startswith("_")}
     if truth is None and "target_azimuth" in image:
         truth = np.stack([image["target_azimuth"].values, image["target_range"].values], axis=1)
@@ -98,6 +104,9 @@ def measure(image: xr.Dataset, truth: np.ndarray | None = None, reflectivity_pha
         out["peak_phase_rad"] = float(wrap(m["peak_phase_flat_rad"] + float(phase_fn(out["target_azimuth_m"],
                                                                                   out["target_range_m"]))))
     out.pop("peak_phase_flat_rad", None)
+    if reflectivity_phase is not None and not np.isscalar(reflectivity_phase):
+        reflectivity_phase = (float(np.asarray(reflectivity_phase)[out["target_index"]])
+                              if "target_index" in out else None)
     if reflectivity_phase is not None:
         out["peak_phase_error_rad"] = float(wrap(out["peak_phase_rad"] - reflectivity_phase))
         out["peak_phase_error_theory_rad"] = 0.0
@@ -108,6 +117,7 @@ def measure(image: xr.Dataset, truth: np.ndarray | None = None, reflectivity_pha
             out[f"pslr_{ax}_theory_db"] = float(at["pslr_theory"])
             out[f"islr_{ax}_theory_db"] = float(at["islr_theory"])
         out[f"resolution_{ax}_theory_m"] = float(at.get(f"resolution_{ax}", float("nan")))
-    out["entropy"] = entropy(img)
-    out["contrast"] = contrast(img)
+    mom = moments if moments is not None else intensity_moments(img)
+    out["entropy"] = entropy_from_moments(mom)
+    out["contrast"] = contrast_from_moments(mom)
     return out

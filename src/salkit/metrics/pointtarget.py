@@ -90,9 +90,64 @@ def _carrier(chip: np.ndarray, axis: int) -> float:
     return float(np.angle(z) / (2 * np.pi))
 
 
+CHIP_SAMPLES_PER_CELL = 4.0  # the analysed neighbourhood keeps at least this many samples per resolution cell
+CHIP_MIN_HALF = 16  # half-width of the neighbourhood, samples, at least
+
+
+def analysis_extent(dx: float, dy: float, res_az: float, res_rg: float) -> dict:
+    """Where :func:`analyse_point` reads around a peak: strides and half-widths, in pixels.
+
+    The neighbourhood spans +-15 resolution cells (1.5 x the sidelobe span) in each direction. A
+    grid finer than ``CHIP_SAMPLES_PER_CELL`` pixels a resolution cell is read every ``stride``-th
+    pixel (the response is band-limited to about one cycle a resolution cell, so 4 samples a cell
+    keep it free of aliasing), so the neighbourhood holds about 120 x 120 samples at any pixel size
+    and the analysis' memory is bounded (a few MiB) however fine the grid.
+
+    Parameters
+    ----------
+    dx, dy : float
+        Pixel spacings in azimuth and range, m.
+    res_az, res_rg : float
+        Nominal resolutions, m.
+
+    Returns
+    -------
+    dict
+        ``stride`` (sx, sy) pixels between samples; ``half`` (hx, hy) samples either side;
+        ``pixels`` (px, py) = stride x half, the half-extent in pixels that the analysis reads.
+
+    Examples
+    --------
+    >>> analysis_extent(0.001, 0.001, 0.02, 0.02)["stride"]  # 20 pixels a cell -> every 5th
+    (5, 5)
+    """
+    out = {"stride": [], "half": [], "pixels": []}
+    for d, res in ((dx, res_az), (dy, res_rg)):
+        d, res = abs(float(d)), float(res)
+        # rounded with a margin: a window's coordinates give the spacing a few ulps off the image's
+        s = max(1, int(math.floor(res / (CHIP_SAMPLES_PER_CELL * d) + 1e-6))) if np.isfinite(res) and res > 0 else 1
+        h = max(int(math.ceil(1.5 * SIDELOBE_SPAN * res / (s * d) - 1e-6)), CHIP_MIN_HALF)
+        out["stride"].append(s)
+        out["half"].append(h)
+        out["pixels"].append(s * h)
+    return {k: tuple(v) for k, v in out.items()}
+
+
+def _zoom_matrix(freqs: np.ndarray, positions: np.ndarray, n: int, up: int) -> np.ndarray:
+    """Rows evaluating the zero-padded inverse DFT (``up`` times finer) of an n-point centred
+    spectrum at fine sample ``positions``: the values ``ifft(pad(spectrum)) * up`` would hold there."""
+    return np.exp(2j * np.pi * np.outer(positions, freqs) / (n * up)) / n
+
+
 def analyse_point(image: np.ndarray, az: np.ndarray, rg: np.ndarray, res_az: float, res_rg: float,
                   peak: tuple[int, int] | None = None, upsample: int = 16, phase_fn=None) -> dict:
     """Analyse the point target at ``peak`` (pixel indices; default the brightest pixel).
+
+    The neighbourhood (:func:`analysis_extent`: +-15 resolution cells, every k-th pixel of a grid
+    finer than 4 pixels a cell) is demodulated by its spectral centroid and interpolated by
+    zero-padding its spectrum ``upsample`` times: only the rows and columns needed are evaluated
+    (the neighbourhood of the coarse peak, then the two cuts through the fine peak), so memory is a
+    few MiB at any pixel size and the figures equal a full 2-D upsampling's to rounding.
 
     Parameters
     ----------
@@ -102,6 +157,7 @@ def analyse_point(image: np.ndarray, az: np.ndarray, rg: np.ndarray, res_az: flo
     res_az, res_rg : float
         Nominal resolutions, m (set the neighbourhood size and sidelobe span).
     upsample : int
+        Interpolation factor of the cuts over the analysed samples.
     phase_fn : callable(az, rg) -> ndarray, optional
         The image's deterministic phase (rad) at plane coordinates; removed from the
         neighbourhood before upsampling (it holds the pixel-range curvature a focused SAL image
@@ -117,43 +173,54 @@ def analyse_point(image: np.ndarray, az: np.ndarray, rg: np.ndarray, res_az: flo
     if peak is None:
         peak = np.unravel_index(int(np.argmax(np.abs(image))), image.shape)
     i0, j0 = int(peak[0]), int(peak[1])
-    hx = max(int(math.ceil(1.5 * SIDELOBE_SPAN * res_az / dx)), 16)
-    hy = max(int(math.ceil(1.5 * SIDELOBE_SPAN * res_rg / dy)), 16)
-    chip = np.zeros((2 * hx, 2 * hy), np.complex128)
-    a0, a1 = max(i0 - hx, 0), min(i0 + hx, nx)
-    b0, b1 = max(j0 - hy, 0), min(j0 + hy, ny)
-    chip[a0 - (i0 - hx):a1 - (i0 - hx), b0 - (j0 - hy):b1 - (j0 - hy)] = image[a0:a1, b0:b1]
-    ca = az[0] + (np.arange(2 * hx) + i0 - hx) * dx
-    cr = rg[0] + (np.arange(2 * hy) + j0 - hy) * dy
+    ext = analysis_extent(dx, dy, res_az, res_rg)
+    (sx, sy), (hx, hy) = ext["stride"], ext["half"]
+    N, M = 2 * hx, 2 * hy
+    ia = i0 + (np.arange(N) - hx) * sx  # image rows and columns of the samples
+    jr = j0 + (np.arange(M) - hy) * sy
+    oka, okr = (ia >= 0) & (ia < nx), (jr >= 0) & (jr < ny)
+    chip = np.zeros((N, M), np.complex128)
+    chip[np.ix_(oka, okr)] = image[ia[oka][0]:ia[oka][-1] + 1:sx, jr[okr][0]:jr[okr][-1] + 1:sy]
+    Dx, Dy = sx * dx, sy * dy  # sample spacings of the neighbourhood, m
+    ca = az[0] + ia * dx
+    cr = rg[0] + jr * dy
     if phase_fn is not None:
         chip = chip * np.exp(-1j * phase_fn(ca[:, None], cr[None, :]))
     fa, fr = _carrier(chip, 0), _carrier(chip, 1)
-    na = np.arange(2 * hx)[:, None]
-    nr = np.arange(2 * hy)[None, :]
+    na = np.arange(N)[:, None]
+    nr = np.arange(M)[None, :]
     bb = chip * np.exp(-2j * np.pi * (fa * na + fr * nr))
-    U = upsample
+    U = int(upsample)
     spec = np.fft.fftshift(np.fft.fft2(bb))
-    big = np.zeros((2 * hx * U, 2 * hy * U), np.complex128)
-    ox, oy = (big.shape[0] - spec.shape[0]) // 2, (big.shape[1] - spec.shape[1]) // 2
-    big[ox:ox + spec.shape[0], oy:oy + spec.shape[1]] = spec
-    up = np.fft.ifft2(np.fft.ifftshift(big)) * (U * U)
-    k = np.unravel_index(int(np.argmax(np.abs(up))), up.shape)
-    cut_az = up[:, k[1]]
-    cut_rg = up[k[0], :]
-    m_az = ipr_1d(cut_az, dx / U, res_az)
-    m_rg = ipr_1d(cut_rg, dy / U, res_rg)
-    pa = m_az["peak_index"] / U  # in chip samples
+    # frequencies of the centred spectrum as placed in the padded one (fftshift layout)
+    fq_a = (N * U - N) // 2 + np.arange(N) - (N * U) // 2
+    fq_r = (M * U - M) // 2 + np.arange(M) - (M * U) // 2
+    # the fine peak: the interpolated image within +-2 samples of the coarse peak
+    c = np.unravel_index(int(np.argmax(np.abs(bb))), bb.shape)
+    za = np.arange((c[0] - 2) * U, (c[0] + 2) * U + 1) % (N * U)
+    zr = np.arange((c[1] - 2) * U, (c[1] + 2) * U + 1) % (M * U)
+    zoom = _zoom_matrix(fq_a, za, N, U) @ spec @ _zoom_matrix(fq_r, zr, M, U).T
+    kz = np.unravel_index(int(np.argmax(np.abs(zoom))), zoom.shape)
+    k = (int(za[kz[0]]), int(zr[kz[1]]))
+    col = spec @ _zoom_matrix(fq_r, np.array([k[1]]), M, U)[0]  # through the fine peak's range
+    row = _zoom_matrix(fq_a, np.array([k[0]]), N, U)[0] @ spec
+    cut_az = _zoom_matrix(fq_a, np.arange(N * U), N, U) @ col
+    cut_rg = _zoom_matrix(fq_r, np.arange(M * U), M, U) @ row
+    m_az = ipr_1d(cut_az, Dx / U, res_az)
+    m_rg = ipr_1d(cut_rg, Dy / U, res_rg)
+    pa = m_az["peak_index"] / U  # in neighbourhood samples
     pr = m_rg["peak_index"] / U
-    val = up[k]
+    val = zoom[kz]
     phase = float(np.angle(val * np.exp(2j * np.pi * (fa * k[0] / U + fr * k[1] / U))))
     flat_phase = phase
+    a_org, r_org = float(ca[0]), float(cr[0])  # coordinates of the first sample, m
     if phase_fn is not None:
-        pk_a = az[0] + (i0 - hx + k[0] / U) * dx
-        pk_r = rg[0] + (j0 - hy + k[1] / U) * dy
+        pk_a = a_org + k[0] / U * Dx
+        pk_r = r_org + k[1] / U * Dy
         phase = float(np.angle(np.exp(1j * (phase + float(np.asarray(phase_fn(pk_a, pk_r)))))))
     return {
-        "peak_azimuth_m": float(az[0] + (i0 - hx + pa) * dx),
-        "peak_range_m": float(rg[0] + (j0 - hy + pr) * dy),
+        "peak_azimuth_m": float(a_org + pa * Dx),
+        "peak_range_m": float(r_org + pr * Dy),
         "peak_amplitude": float(np.abs(val)),
         "peak_phase_rad": phase,
         "peak_phase_flat_rad": flat_phase,
@@ -161,8 +228,8 @@ def analyse_point(image: np.ndarray, az: np.ndarray, rg: np.ndarray, res_az: flo
         "pslr_azimuth_db": m_az["pslr_db"], "pslr_range_db": m_rg["pslr_db"],
         "islr_azimuth_db": m_az["islr_db"], "islr_range_db": m_rg["islr_db"],
         "_cut_azimuth": np.abs(cut_az), "_cut_range": np.abs(cut_rg),
-        "_cut_dx": dx / U, "_cut_dy": dy / U,
-        "_cut_origin_az": float(az[0] + (i0 - hx) * dx), "_cut_origin_rg": float(rg[0] + (j0 - hy) * dy),
+        "_cut_dx": Dx / U, "_cut_dy": Dy / U,
+        "_cut_origin_az": a_org, "_cut_origin_rg": r_org,
     }
 
 

@@ -2,11 +2,13 @@
 from __future__ import annotations
 
 import copy
+import difflib
+import typing
 from pathlib import Path
 from typing import Any, Iterable, Mapping
 
 import yaml
-from pydantic import TypeAdapter, ValidationError
+from pydantic import BaseModel, TypeAdapter, ValidationError
 
 from ..errors import ScenarioError
 from .base import FieldProblem
@@ -20,8 +22,120 @@ _ADAPTER = TypeAdapter(AnyScenario)
 _EXPERIMENT_TAGS = ("turbulence_pga", "nonlinear_chirp", "spaceborne_geo", "downlooking")
 
 
+def _model_in(annotation):
+    """The pydantic model an annotation holds (through Optional, unions, lists, Annotated), or None."""
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return annotation
+    for arg in typing.get_args(annotation):
+        m = _model_in(arg)
+        if m is not None:
+            return m
+    return None
+
+
+def fields_at(parts) -> list[str]:
+    """The field names of the section at a location (``["waveform"]``: the waveform's fields), as a
+    scenario file spells them; the top level for an empty location. Empty where the location is not
+    a section.
+
+    Parameters
+    ----------
+    parts : sequence of str or int
+        The section's keys (list indices are skipped).
+
+    Returns
+    -------
+    list of str
+
+    Examples
+    --------
+    >>> "bandwidth" in fields_at(["waveform"])
+    True
+    """
+    model = Scenario
+    if parts and parts[0] == "experiment" and len(parts) > 1:
+        kinds = {"downlooking": DownlookingScenario}
+        model = kinds.get(str(parts[1]), Scenario)
+    for p in parts:
+        if isinstance(p, int) or str(p).isdigit() or str(p) in _EXPERIMENT_TAGS:
+            continue
+        f = model.model_fields.get(str(p))
+        m = _model_in(f.annotation) if f is not None else None
+        if m is None:
+            return []
+        model = m
+    names = set(model.model_fields)
+    if model is Scenario:
+        names |= set(DownlookingScenario.model_fields)
+    return sorted(names)
+
+
+def did_you_mean(name: str, candidates) -> str:
+    """`` (did you mean 'x'?)`` for the candidate nearest ``name`` (difflib), or ``""``.
+
+    Parameters
+    ----------
+    name : str
+        What the user wrote.
+    candidates : iterable of str
+        The valid names.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> did_you_mean("bandwidht", ["bandwidth", "prf"])
+    " (did you mean 'bandwidth'?)"
+    """
+    near = difflib.get_close_matches(str(name), list(candidates), n=1, cutoff=0.6)
+    return f" (did you mean '{near[0]}'?)" if near else ""
+
+
+def unknown_key_error(loc, value=None, valid=None) -> ScenarioError:
+    """The error for a key that is not a field: names the key as written, the nearest valid key and the
+    section's valid keys.
+
+    Parameters
+    ----------
+    loc : sequence
+        The key's location (``["waveform", "bandwidht"]``).
+    value : object, optional
+        The value given to it.
+    valid : list of str, optional
+        The section's field names (default :func:`fields_at` of the location's parent).
+
+    Returns
+    -------
+    ScenarioError
+    """
+    parts = [p for p in loc if str(p) not in _EXPERIMENT_TAGS]
+    key, section = str(parts[-1]), parts[:-1]
+    valid = fields_at(section) if valid is None else valid
+    where = ".".join(str(p) for p in section) or "the scenario"
+    hint = did_you_mean(key, valid)
+    listed = f"; its fields: {', '.join(valid)}" if valid and len(valid) <= 16 else ""
+    return ScenarioError(".".join(str(p) for p in parts), value,
+                         f"'{key}' is not a field of {where}{hint}{listed}")
+
+
 def _format_validation(err: ValidationError) -> ScenarioError:
-    first = err.errors()[0]
+    errors = err.errors()
+    extra = [e for e in errors if e["type"] == "extra_forbidden"]
+    if extra:  # an unknown key (a typo) explains the "required" errors beside it: name it first
+        loc = list(extra[0]["loc"])
+        if loc and loc[0] in ("sal", "downlooking"):
+            loc = loc[1:]
+        value = extra[0].get("input")
+        if isinstance(value, (dict, list)) and len(repr(value)) > 120:
+            value = f"<{type(value).__name__}>"
+        e = unknown_key_error(loc, value)
+        more = len(extra) - 1
+        if more:
+            e = ScenarioError(e.field, e.value, f"{e.constraint} (and {more} more unknown key{'s' if more > 1 else ''})")
+        return e
+    first = errors[0]
     parts = list(first["loc"])
     if parts and parts[0] in ("sal", "downlooking"):  # the union's tag, not a field
         parts = parts[1:]

@@ -11,7 +11,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.ticker  # noqa: E402
 import numpy as np
 
-from ..io.datasets import atomic_path
+from ..io.datasets import atomic_path, blocks
+
+PREVIEW_PIXELS = 512  # an image figure shows at most this many pixels a side (about what its PNG shows)
 
 
 def _subplots(*args, **kwargs):
@@ -41,3 +43,57 @@ def _db(img, ref):
     """Magnitude of ``img`` in dB against the amplitude ``ref``, floored at -80 dB."""
     a = np.abs(img) / max(ref, 1e-30)
     return 20 * np.log10(np.maximum(a, 1e-4))
+
+
+def preview_step(shape, max_pixels: int = PREVIEW_PIXELS) -> int:
+    """The side k of the k x k pixel blocks an image of ``shape`` is shown in (1: every pixel).
+
+    Parameters
+    ----------
+    shape : tuple of int
+    max_pixels : int
+        Most pixels shown a side.
+
+    Returns
+    -------
+    int
+    """
+    return max(1, -(-max(shape) // max_pixels))
+
+
+def peak_magnitude(image, max_pixels: int = PREVIEW_PIXELS) -> tuple[np.ndarray, int]:
+    """|image| for a figure: the brightest pixel of each k x k block, at most ``max_pixels`` a side,
+    read k rows at a time (an image in memory or opened lazily; bounded memory at any size). A point
+    target keeps its peak, as every k-th pixel would not.
+
+    Parameters
+    ----------
+    image : complex array-like (nx, ny)
+    max_pixels : int
+
+    Returns
+    -------
+    (ndarray float32, int)
+        The magnitudes and k.
+
+    Examples
+    --------
+    >>> m, k = peak_magnitude(np.arange(16.0).reshape(4, 4), max_pixels=2)
+    >>> k, m.tolist()
+    (2, [[5.0, 7.0], [13.0, 15.0]])
+    """
+    nx, ny = image.shape
+    k = preview_step((nx, ny), max_pixels)
+    if k == 1:
+        return np.abs(np.asarray(image)).astype(np.float32), 1
+    mx, my = -(-nx // k), -(-ny // k)
+    out = np.zeros((mx, my), np.float32)
+    for a, b, big in blocks(image, multiple=k):
+        w = -(-big.shape[1] // k)
+        for c in range(0, big.shape[0], k):
+            blk = np.abs(big[c:c + k]).astype(np.float32)
+            pad = w * k - blk.shape[1]
+            if pad:
+                blk = np.pad(blk, ((0, 0), (0, pad)))
+            out[(a + c) // k, b // k:b // k + w] = blk.reshape(blk.shape[0], w, k).max(axis=(0, 2))
+    return out, k

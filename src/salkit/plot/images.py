@@ -6,11 +6,15 @@ from pathlib import Path
 
 import numpy as np
 
-from .canvas import _db, _save, _subplots
+from .canvas import _db, _save, _subplots, peak_magnitude
 
 
 def image_db(image_ds, path, title: str = "", dynamic_range: float = 40.0, truth=None) -> Path:
     """The image magnitude in dB (peak 0 dB), axes in metres, expected target positions marked.
+
+    An image larger than :data:`~salkit.plot.canvas.PREVIEW_PIXELS` a side is shown by the
+    brightest pixel of each k x k block (:func:`~salkit.plot.canvas.peak_magnitude`, read a block
+    at a time, so an image opened lazily is never whole in memory); the title says k.
 
     Parameters
     ----------
@@ -28,9 +32,13 @@ def image_db(image_ds, path, title: str = "", dynamic_range: float = 40.0, truth
     -------
     Path
     """
-    img = np.abs(image_ds["image"].values)
+    img, k = peak_magnitude(image_ds["image"])
     az = image_ds["azimuth"].values
     rg = image_ds["range"].values
+    if k > 1:
+        az = az[: img.shape[0] * k: k] + (k - 1) / 2 * (az[1] - az[0])
+        rg = rg[: img.shape[1] * k: k] + (k - 1) / 2 * (rg[1] - rg[0])
+        title = f"{title}, each pixel the brightest of {k} x {k}" if title else ""
     db = 20 * np.log10(np.maximum(img / max(img.max(), 1e-30), 1e-12))
     fig, ax = _subplots(figsize=(6.4, 5.2))
     ext = [az[0], az[-1], rg[0], rg[-1]]
@@ -82,6 +90,9 @@ def cuts(curves: dict, metrics: dict, path) -> Path:
 def raw_phase_history(raw_ds, path) -> Path:
     """Magnitude of the raw dechirped samples (slow time vs fast time).
 
+    A history larger than :data:`~salkit.plot.canvas.PREVIEW_PIXELS` a side is shown by the largest
+    magnitude of each k x k block (:func:`~salkit.plot.canvas.peak_magnitude`; bounded memory).
+
     Parameters
     ----------
     raw_ds : xarray.Dataset
@@ -91,7 +102,7 @@ def raw_phase_history(raw_ds, path) -> Path:
     -------
     Path
     """
-    s = np.abs(raw_ds["signal"].values)
+    s, _ = peak_magnitude(raw_ds["signal"])
     t = raw_ds["fast_time"].values * 1e6
     st = raw_ds["slow_time"].values
     fig, ax = _subplots(figsize=(6.4, 4.0))

@@ -7,7 +7,7 @@ from pathlib import Path
 
 from .. import __version__
 from ..io.datasets import write_text_atomic
-from .judge import headline, passed
+from .judge import VERDICTS, headline, passed, verdict
 from .pages import environment
 
 #: The figure shown on each kind of run's card, first found wins.
@@ -37,8 +37,11 @@ def write_index(out_dir: str | Path, runs: list[dict]) -> Path:
         found = [t for t in THUMBNAILS if (out / r["name"] / t).is_file()]
         found += sorted(p.name for p in (out / r["name"]).glob("sweep_*.png"))  # a sweep's first figure
         thumb = f"{r['name']}/{found[0]}" if found else None
-        cards.append({**r, "items": items, "ok": passed(items), "thumb": thumb})
-    html = environment().get_template("index.html").render(cards=cards, version=__version__,
-                                                           n_ok=sum(c["ok"] is True for c in cards),
-                                                           n_bad=sum(c["ok"] is False for c in cards))
+        for i in items:
+            i["verdict"] = verdict(i["ok"])
+        ok = passed(items)
+        cards.append({**r, "items": items, "ok": ok, "verdict": verdict(ok), "thumb": thumb})
+    counts = [(VERDICTS[k], [c["name"] for c in cards if c["ok"] is k]) for k in (True, False, None)]
+    html = environment().get_template("index.html").render(cards=cards, version=__version__, counts=counts,
+                                                           verdicts=list(VERDICTS.values()))
     return write_text_atomic(out / "index.html", html)

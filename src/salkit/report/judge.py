@@ -1,10 +1,46 @@
 """Measured against theory, judged in one place: the ratio and difference rules with the test
 suite's tolerances (:mod:`salkit.tolerances`), used by the report's comparison table
-(:func:`comparison_rows`) and by the index page's headline figures (:func:`headline`)."""
+(:func:`comparison_rows`), by the index page's and the sweep's headline figures (:func:`headline`) and
+by the command line, with one vocabulary of verdicts (:data:`VERDICTS`)."""
 from __future__ import annotations
 
 from .. import tolerances as tol
 from ..units import display
+
+
+#: Every verdict a figure, a table row or a card can have, one vocabulary for the command line, the
+#: report, the index card and the sweep card: the CSS class, the word printed beside the figure, the
+#: colour and the legend's words. ``None`` is a figure no theory predicts here; it always carries the
+#: reason (``why``).
+VERDICTS = {
+    True: {"css": "pass", "word": "ok", "colour": "green", "legend": "within the test suite's tolerance"},
+    False: {"css": "fail", "word": "outside tolerance", "colour": "red", "legend": "outside the test suite's tolerance"},
+    None: {"css": "na", "word": "not judged", "colour": "grey",
+           "legend": "no theory predicts this figure here (the reason is given beside it)"},
+}
+
+#: Why a target's sidelobes in a scene are not judged.
+CLUTTER_WHY = ("the target sits in a speckled scene: the highest level within +-10 cells of it is the scene's "
+               "speckle, not the target's sidelobe, so a point target's PSLR and ISLR theory does not apply")
+
+
+def verdict(ok: bool | None) -> dict:
+    """The words and colours of a verdict (:data:`VERDICTS`).
+
+    Parameters
+    ----------
+    ok : bool or None
+
+    Returns
+    -------
+    dict
+
+    Examples
+    --------
+    >>> verdict(None)["word"]
+    'not judged'
+    """
+    return VERDICTS[None if ok is None else bool(ok)]
 
 
 #: Metric name prefixes of a sweep judged against their theory at the worst point, and the tolerance
@@ -99,7 +135,7 @@ def comparison_rows(m: dict) -> list[dict]:
     """
     rows = []
     clutter = in_clutter(m)
-    scene_note = "not tested: the scene around the target"
+    scene_note = "not judged"
     for ax in ("range", "azimuth"):
         irw, th = m.get(f"irw_{ax}_m"), m.get(f"irw_{ax}_theory_m")
         if irw is not None and th:
@@ -111,7 +147,8 @@ def comparison_rows(m: dict) -> list[dict]:
             if v is not None and vt is not None:
                 d, ok = difference_rule(v, vt, tolerance, applies=not clutter)
                 rows.append(dict(name=f"{what.upper()} {ax} (dB)", measured=_fmt(v), theory=_fmt(vt),
-                                 delta=f"{d:+.3f}", ok=ok, tol=scene_note if clutter else f"+- {tolerance:g} dB"))
+                                 delta=f"{d:+.3f}", ok=ok, tol=f"{scene_note}: {CLUTTER_WHY}" if clutter
+                                 else f"+- {tolerance:g} dB"))
         off = m.get(f"peak_offset_{ax}_m")
         res = m.get(f"resolution_{ax}_theory_m")
         if off is not None and res:
@@ -163,7 +200,8 @@ def headline(metrics: dict) -> list[dict]:
     -------
     list of dict
         ``label``, ``measured``, ``reference``, ``delta`` and ``ok`` (True, False, or None for a
-        figure without a pass/fail rule).
+        figure no theory predicts here, which then has ``why``). A target in a scene has no PSLR
+        headline (:data:`CLUTTER_WHY`); the report's table keeps it, not judged, with the reason.
 
     Examples
     --------
@@ -172,21 +210,34 @@ def headline(metrics: dict) -> list[dict]:
     """
     m, items = metrics, []
     if "sweep_points" in m:  # a design study: how many points ran, each metric's worst point against theory
+        n_real = m["sweep_realisations"]
         items.append({"label": "points run", "measured": f"{m['sweep_points_ok']} of {m['sweep_points']}",
-                      "reference": f"x {m['sweep_realisations']} realisations", "delta": "",
-                      "ok": None})
+                      "reference": f"x {n_real} realisations", "delta": "",
+                      "ok": m["sweep_points_ok"] == m["sweep_points"] - m.get("sweep_points_invalid", 0)})
         for k in sorted(k for k in m if k.endswith("_over_theory_max_deviation")):
             name = k[: -len("_over_theory_max_deviation")]
+            stat = m.get(f"{name}_theory_statistic", "median")
             rule = SWEEP_RULES.get(next((p for p in SWEEP_RULES if name.startswith(p)), ""), None)
-            items.append({"label": f"{name}, worst point", "measured": f"{100 * m[k]:.2f} % from theory",
-                          "reference": "median over realisations", "delta": "",
-                          "ok": None if rule is None or m.get("sweep_perturbed") else m[k] <= rule})
+            item = {"label": f"{name}, worst point", "measured": f"{100 * m[k]:.2f} % from theory",
+                    "reference": f"{stat} of {n_real} realisations against theory's {stat}", "delta": ""}
+            se = m.get(f"{name}_over_theory_max_deviation_se")
+            if stat == "mean" and se is not None and n_real > 1:  # a Monte Carlo mean: within 3 standard errors
+                item["delta"] = f"3 s.e. {300 * se:.1f} %"
+                item["ok"] = m[k] <= 3 * se
+            elif m.get("sweep_perturbed"):
+                item["ok"], item["why"] = None, ("turbulence or a phase error perturbs the image; this theory is "
+                                                 "the unperturbed limit")
+            elif rule is None:
+                item["ok"], item["why"] = None, "no tolerance is set for this figure in a sweep"
+            else:
+                item["ok"] = m[k] <= rule
+            items.append(item)
         return items
     if "snr_stack" in m:  # space-borne GEO stack (seed 001)
         single = _ratio_item("single sub-image SNR", m, "snr_single", "snr_single_theory", tol.SNR_RATIO,
                              "eq 15 (uniform area)")
         if single is not None:  # eq 15 holds for a uniform area; the satellite's edges lower it (docs/spaceborne.md)
-            single["ok"] = None
+            single["ok"], single["why"] = None, "eq 15 holds for a uniform area; the satellite's edges lower it"
         items.append(single)
         if m.get("snr_single") and m.get("stack_count"):
             gain, want = m["snr_stack"] / m["snr_single"], m["stack_count"] ** 0.5
@@ -213,18 +264,36 @@ def headline(metrics: dict) -> list[dict]:
         if "medium_pga_peak_ratio" in m:
             items.append({"label": "medium class peak, before / after PGA",
                           "measured": f"{m['medium_peak_ratio']:.2f} / {m['medium_pga_peak_ratio']:.2f}",
-                          "reference": "turbulence-free 1", "delta": "", "ok": None})
+                          "reference": "turbulence-free 1", "delta": "", "ok": None,
+                          "why": "one realisation of the screens; theory gives ensemble figures (salkit sweep)"})
     else:  # a plain scenario or an outside file
         items += [_ratio_item("range IRW", m, "irw_range_m", "irw_range_theory_m", tol.IRW_RATIO),
                   _ratio_item("azimuth IRW", m, "irw_azimuth_m", "irw_azimuth_theory_m", tol.IRW_RATIO)]
-        if "pslr_range_db" in m and "pslr_range_theory_db" in m:
-            clutter = in_clutter(m)
-            d, ok = difference_rule(m["pslr_range_db"], m["pslr_range_theory_db"], tol.PSLR_DB, applies=not clutter)
-            items.append({"label": "range PSLR" + (" (target in a scene)" if clutter else ""),
-                          "measured": f"{m['pslr_range_db']:.2f} dB",
+        if "pslr_range_db" in m and "pslr_range_theory_db" in m and not in_clutter(m):  # judge what theory predicts
+            d, ok = difference_rule(m["pslr_range_db"], m["pslr_range_theory_db"], tol.PSLR_DB)
+            items.append({"label": "range PSLR", "measured": f"{m['pslr_range_db']:.2f} dB",
                           "reference": f"theory {m['pslr_range_theory_db']:.2f} dB", "delta": f"{d:+.2f} dB",
                           "ok": ok})
-    return [i for i in items if i is not None]
+    items = [i for i in items if i is not None]
+    for i in items:
+        if i["ok"] is None:
+            i.setdefault("why", "no pass/fail rule for this figure")
+    return items
+
+
+def not_within(cards: list[dict]) -> list[str]:
+    """Names of the cards that are not within tolerance (outside, or with nothing judged).
+
+    Parameters
+    ----------
+    cards : list of dict
+        ``name`` and ``ok`` (:func:`passed`).
+
+    Returns
+    -------
+    list of str
+    """
+    return [c["name"] for c in cards if c["ok"] is not True]
 
 
 def passed(items: list[dict]) -> bool | None:

@@ -14,6 +14,7 @@ from ..io.datasets import write_text_atomic
 from ..io.runfolder import is_staging
 from ..systems.result import RunResult
 from ..units import display
+from .judge import VERDICTS, headline, verdict
 
 #: What the files every run may write hold (datasets, tables and figures describe themselves).
 FILE_NOTES = {
@@ -169,7 +170,9 @@ def render(out_dir: str | Path, template: str, result: RunResult, page: dict | N
                   command=page.get("command") or API_COMMAND, index=page.get("index"),
                   created=datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
                   metric_rows=metric_rows(result.metrics), scenario=result.scenario_text, metrics=result.metrics,
-                  page_warnings=list(page.get("warnings", ())), files=[])
+                  page_warnings=list(page.get("warnings", ())), files=[],
+                  headline=[{**i, "verdict": verdict(i["ok"])} for i in headline(result.metrics)],
+                  verdicts=list(VERDICTS.values()))
     common.update(context)
     tpl = environment().get_template(template)
     html = tpl.render(**common)

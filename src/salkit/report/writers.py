@@ -36,12 +36,11 @@ def write_airborne(result: RunResult, out: Path, page: dict | None = None) -> No
     if "target_azimuth" in image:
         truth = np.stack([image["target_azimuth"].values, image["target_range"].values], axis=1)
     alg = image.attrs.get("algorithm")
-    shown = fig.get("image_preview", image)  # an image larger than memory: every k-th pixel
-    step = int(shown.attrs.get("preview_step", 1))
-    every = f", every {step}th pixel" if step > 1 else ""
+    step = plot.preview_step(image["image"].shape)
+    every = f", each pixel shown the brightest of {step} x {step}" if step > 1 else ""
     figs = [("Focused image (dB)", "image.png",
              f"{alg} image, dB, azimuth and range in m, true target positions marked{every}")]
-    plot.image_db(shown, out / "image.png", title=f"{result.name}: {alg} image{every}", truth=truth)
+    plot.image_db(image, out / "image.png", title=f"{result.name}: {alg} image", truth=truth)
     if "_cut_range" in details:
         plot.cuts(cut_curves(details, image.attrs), metrics, out / "cuts.png")
         figs.append(("Cuts through the brightest target against theory", "cuts.png",

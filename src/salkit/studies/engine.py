@@ -287,9 +287,17 @@ def _axis_attrs(a) -> dict:
     return {"units": unit or "1", "scale": a.scale, "spec": a.spec}
 
 
+#: Metrics whose theory is an ensemble mean (a random quantity's expectation): a sweep compares the
+#: mean over the realisations with it, within its standard error; the others compare the median.
+THEORY_IS_MEAN = ("strehl_at_target",)
+
+
 def summary(ds: xr.Dataset) -> dict:
     """Flat numbers of a sweep for ``metrics.json``: counts, time, and for each metric with a
-    theory the largest deviation of its median from it, ``|median / theory - 1|``.
+    theory the largest deviation from it of the statistic theory predicts, ``|stat / theory - 1|``:
+    the mean over the realisations for :data:`THEORY_IS_MEAN` (with the standard error of that mean
+    at the worst point, ``*_over_theory_max_deviation_se``), the median for the others;
+    ``*_theory_statistic`` says which.
 
     Parameters
     ----------
@@ -313,12 +321,20 @@ def summary(ds: xr.Dataset) -> dict:
     for name in measured_metrics(ds):
         t = theory_name(name)
         if t in ds.data_vars:
-            med = ds[name].median("realisation", skipna=True).values
-            th = ds[t].median("realisation", skipna=True).values
+            mean = name in THEORY_IS_MEAN
+            v = ds[name]
+            stat = (v.mean("realisation", skipna=True) if mean else v.median("realisation", skipna=True)).values
+            th = (ds[t].mean("realisation", skipna=True) if mean else ds[t].median("realisation", skipna=True)).values
             with np.errstate(divide="ignore", invalid="ignore"):
-                dev = np.abs(med / th - 1)
+                dev = np.abs(stat / th - 1)
             if np.isfinite(dev).any():
-                out[f"{name}_over_theory_max_deviation"] = float(np.nanmax(dev))
+                k = int(np.nanargmax(dev))
+                out[f"{name}_over_theory_max_deviation"] = float(dev.flat[k])
+                out[f"{name}_theory_statistic"] = "mean" if mean else "median"
+                if mean:
+                    n = v.count("realisation").values.flat[k]
+                    sd = v.std("realisation", ddof=1, skipna=True).values.flat[k] if n > 1 else np.nan
+                    out[f"{name}_over_theory_max_deviation_se"] = float(sd / np.sqrt(n) / abs(th.flat[k]))
     return out
 
 

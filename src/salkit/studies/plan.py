@@ -167,8 +167,9 @@ def make_plan(scenario, axes, *, zipped: bool = False, realisations: int = 1, me
         try:
             parse_scenario(apply_overrides(base, [f"{a.field}={json.dumps(a.values[0])}"]))
         except ScenarioError as e:
-            if e.field == "--set" or (e.field == a.field and "Extra inputs" in e.constraint):
-                raise ScenarioError("--vary", a.field, "is not a field of the scenario") from None
+            if e.field == "--set" or (e.field == a.field and "is not a field of" in e.constraint):
+                raise ScenarioError("--vary", a.field, e.constraint.split(";")[0].replace(
+                    f"'{a.field.split('.')[-1]}' ", "")) from None
             # a value the field refuses makes that point invalid (check_points), not the sweep
     return SweepPlan(base, tuple(axes), zipped, realisations, tuple(metrics))
 

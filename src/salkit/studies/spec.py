@@ -10,6 +10,7 @@ import numpy as np
 import yaml
 
 from ..errors import ScenarioError
+from ..params.scenario import did_you_mean
 
 #: Most points an axis may hold (a typo such as lin:0:1:1e6 is refused before any work).
 MAX_AXIS_POINTS = 10_000
@@ -220,7 +221,8 @@ def read_sweep_file(path) -> SweepFile:
     data = yaml.safe_load(p.read_text(encoding="utf-8"))
     unknown = sorted(set(data) - set(SWEEP_KEYS))
     if unknown:
-        raise ScenarioError(f"{p.name}: {unknown[0]}", data[unknown[0]], f"is not a sweep key ({', '.join(SWEEP_KEYS)})")
+        raise ScenarioError(f"{p.name}: {unknown[0]}", data[unknown[0]],
+                            f"is not a sweep key{did_you_mean(unknown[0], SWEEP_KEYS)}; the keys: {', '.join(SWEEP_KEYS)}")
     if data.get("sweep") != 1:
         raise ScenarioError(f"{p.name}: sweep", data.get("sweep"), "must be 1 (the sweep file format)")
     if not isinstance(data.get("scenario"), str):

@@ -13,10 +13,9 @@ import xarray as xr
 
 from ..errors import ScenarioError
 from ..focus import focus, focus_to_file, image_fits
-from ..io.datasets import brightest_window, preview
 from ..geometry.collection import build_collection
 from ..geometry.sampling import check_sampling
-from ..metrics import measure, snr_against_truth
+from ..metrics import brightest_window, measure, snr_against_truth
 from ..params.models import Processing, Scenario
 from ..params.scenario import dump_scenario, stored_scenario
 from ..simulate import simulate
@@ -30,7 +29,7 @@ from ..atmosphere.path import aperture_strehl, path_layers
 from ..signals.windows import Window
 
 
-def analyse_image(image: xr.Dataset, scenario: Scenario | None) -> tuple[dict, dict]:
+def analyse_image(image: xr.Dataset, scenario: Scenario | None, moments: dict | None = None) -> tuple[dict, dict]:
     """Metrics (flat numbers) and plotting details of a focused image.
 
     Parameters
@@ -38,17 +37,20 @@ def analyse_image(image: xr.Dataset, scenario: Scenario | None) -> tuple[dict, d
     image : xarray.Dataset
     scenario : Scenario or None
         For the true reflectivity phase of the brightest target.
+    moments : dict, optional
+        Intensity moments of the whole image when ``image`` is its window around the brightest
+        pixel (:func:`salkit.metrics.brightest_window`).
 
     Returns
     -------
     (dict, dict)
         Flat metrics, and :func:`salkit.metrics.measure` details.
     """
-    details = measure(image, details=True)
-    if scenario is not None and scenario.scene.points and "target_index" in details:
-        t = scenario.scene.points[details["target_index"]]
-        details = measure(image, reflectivity_phase=t.phase, details=True)
-        details["target_amplitude"] = t.amplitude
+    points = scenario.scene.points if scenario is not None else ()
+    phases = [t.phase for t in points] if points else None
+    details = measure(image, reflectivity_phase=phases, details=True, moments=moments)
+    if points and "target_index" in details:
+        details["target_amplitude"] = points[details["target_index"]].amplitude
     return flat_numbers(details), details
 
 
@@ -303,13 +305,13 @@ def focus_file(raw: xr.Dataset, processing: Processing | None = None, progress: 
                               **options)
         data["image.nc"] = image
         t_focus = time.perf_counter() - t0
-        metrics, details = analyse_image(brightest_window(image), scenario)
+        window, moments = brightest_window(image)
+        metrics, details = analyse_image(window, scenario, moments=moments)
         metrics.update(focus_s=t_focus, image_out_of_core=1)
         return RunResult("airborne", scenario.name if scenario else "external data",
                          scenario.description if scenario else "",
                          raw.attrs.get("scenario", "# no scenario stored in the raw file\n"), metrics, data,
-                         figures={"details": details, "autofocus": None, "timings": {"focus_s": t_focus},
-                                  "image_preview": preview(image)})
+                         figures={"details": details, "autofocus": None, "timings": {"focus_s": t_focus}})
     image, af_metrics, af_res = focus_and_autofocus(raw, scenario, data, processing, progress, autofocus, kernel,
                                                     **options)
     t_focus = time.perf_counter() - t0
