@@ -5,7 +5,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test bench clean venv docs-figures
+.PHONY: demo test bench clean venv docs-figures api dist
 
 # uv installs the same releases as pip (from PyPI) in about 25 s where pip takes 1.5 min of a
 # fresh machine's `make test`; pip does it if uv cannot be had. Bytecode is compiled at install:
@@ -27,6 +27,21 @@ test: $(STAMP)
 	$(VENV)/bin/lint-imports --no-cache
 	$(PY) -m pytest -q -n auto --dist loadfile --doctest-modules src/salkit tests
 
+# The API reference from the docstrings (Sphinx, numpydoc read by napoleon), warnings as errors:
+# docs/api/_build/html/index.html. CI builds it after the tests.
+api: $(STAMP)
+	$(call INSTALL,-e ".[docs]")
+	rm -rf docs/api/generated docs/api/_build
+	$(PY) -m sphinx -b html -W --keep-going -q docs/api docs/api/_build/html
+	@echo "API reference: docs/api/_build/html/index.html"
+
+# The sdist and wheel as PyPI would take them: built in isolation, checked by twine (CI runs it).
+dist: $(STAMP)
+	$(call INSTALL,-e ".[dist]")
+	rm -rf dist
+	$(PY) -m build --outdir dist . > /dev/null
+	$(VENV)/bin/twine check --strict dist/*
+
 docs-figures: $(STAMP)
 	$(PY) docs/make_figures.py
 
@@ -35,4 +50,4 @@ bench: $(STAMP)
 	$(PY) benchmarks/run_all.py $(NAME)
 
 clean:
-	rm -rf $(VENV) results
+	rm -rf $(VENV) results dist build docs/api/_build docs/api/generated

@@ -1,5 +1,7 @@
 """Let a stage's subpackage be called like its main function (``salkit.focus(raw)``) while its
 submodules stay importable (``import salkit.focus.pfa``)."""
+import functools
+import inspect
 import sys
 import types
 
@@ -15,9 +17,13 @@ def make_callable(module_name: str, func_name: str) -> None:
         The function of that module a call runs.
     """
     mod = sys.modules[module_name]
+    func = getattr(mod, func_name)
 
     class _CallableModule(types.ModuleType):
+        @functools.wraps(func)
         def __call__(self, *args, **kwargs):
             return getattr(self, func_name)(*args, **kwargs)
 
     mod.__class__ = _CallableModule
+    # ``inspect.signature(salkit.focus)`` and editors show the function's own parameters and hints
+    mod.__signature__ = inspect.signature(func)

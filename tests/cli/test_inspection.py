@@ -66,3 +66,17 @@ def test_info_prints_a_human_summary_and_verifies_every_chunk(tmp_path):
     bad.write_bytes(bytes(data))
     r = salkit("info", bad)
     assert r.returncode == 2 and str(bad) in r.stderr and "'image'" in r.stderr and "corrupt" in r.stderr
+
+
+def test_examples_copy_holds_everything_the_readme_runs(tmp_path):
+    """`salkit examples --copy DIR` copies the sweep files too (they were left out), beside the
+    scenarios they name, so `salkit sweep DIR/sweeps/X.yaml` finds its scenario."""
+    from salkit.studies.spec import resolve_request
+    r = salkit("examples", "--copy", tmp_path / "ex")
+    assert r.returncode == 0, r.stderr
+    shipped = sorted(p.relative_to(EXAMPLES).as_posix() for p in EXAMPLES.rglob("*.yaml"))
+    copied = sorted(p.relative_to(tmp_path / "ex").as_posix() for p in (tmp_path / "ex").rglob("*.yaml"))
+    assert copied == shipped and any(c.startswith("sweeps/") for c in copied)
+    for f in (tmp_path / "ex" / "sweeps").glob("*.yaml"):
+        assert resolve_request(f).description
+    assert "sweeps/turbulence_cn2.yaml" in r.stdout

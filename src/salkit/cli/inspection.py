@@ -210,16 +210,17 @@ def verify(folder: Path = typer.Argument(..., metavar="DIR", help="an output fol
 @_guard
 def examples(copy_to: Optional[Path] = typer.Option(None, "--copy", metavar="DIR", help="copy the examples into this folder"),
              overwrite: bool = typer.Option(False, "--overwrite", help="replace files that differ from the shipped ones")):
-    """List the shipped example scenarios (and optionally copy them)."""
+    """List the shipped example scenarios and sweep files (and optionally copy them all, sweeps/ too,
+    so that every command the README runs works from the copy)."""
     import yaml
     d = _examples_dir()
-    files = sorted(d.glob("*.yaml"))
+    files = sorted(d.glob("*.yaml")) + sorted((d / "sweeps").glob("*.yaml"))
     for f in files:
         try:
             desc = (yaml.safe_load(f.read_text()) or {}).get("description", "")
         except yaml.YAMLError:
             desc = "(unreadable)"
-        out.print(f"[bold]{f.name}[/]  {desc}", highlight=False)
+        out.print(f"[bold]{f.relative_to(d).as_posix()}[/]  {' '.join(str(desc).split())}", highlight=False)
     if copy_to is not None:
         from ..io.datasets import write_text_atomic
         if copy_to.exists() and not copy_to.is_dir():
@@ -227,10 +228,10 @@ def examples(copy_to: Optional[Path] = typer.Option(None, "--copy", metavar="DIR
             raise ScenarioError("--copy", str(copy_to), "names an existing file; give a folder")
         copied, kept = 0, []
         for f in files:
-            dst = copy_to / f.name
+            dst = copy_to / f.relative_to(d)
             text = f.read_text()
             if dst.exists() and dst.read_text() != text and not overwrite:
-                kept.append(f.name)
+                kept.append(f.relative_to(d).as_posix())
                 continue
             write_text_atomic(dst, text)
             copied += 1

@@ -1,6 +1,6 @@
 """Image formers: one signature, one normalisation, registered by name.
 
-Every former is a function
+Every former is a function::
 
     form(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = BP_UPSAMPLE,
         accuracy: str = "standard", progress=None) -> ImageResult

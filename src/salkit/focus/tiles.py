@@ -271,7 +271,7 @@ class InMemoryPulses:
 
     @property
     def probe(self) -> PhaseHistory:
-        """The collection's kind of data (mode, telescope): the phase history itself."""
+        """The phase history itself, which tells the collection's kind of data (its mode and telescope)."""
         return self.ph
 
 

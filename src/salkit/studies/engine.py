@@ -294,7 +294,8 @@ THEORY_IS_MEAN = ("strehl_at_target",)
 
 def summary(ds: xr.Dataset) -> dict:
     """Flat numbers of a sweep for ``metrics.json``: counts, time, and for each metric with a
-    theory the largest deviation from it of the statistic theory predicts, ``|stat / theory - 1|``:
+    theory the largest deviation from it of the statistic theory predicts, ``|stat / theory - 1|``
+    (``*_over_theory_max_deviation``; for a level in dB the difference, ``*_minus_theory_max_db``):
     the mean over the realisations for :data:`THEORY_IS_MEAN` (with the standard error of that mean
     at the worst point, ``*_over_theory_max_deviation_se``), the median for the others;
     ``*_theory_statistic`` says which.
@@ -318,6 +319,8 @@ def summary(ds: xr.Dataset) -> dict:
     # theory is the unperturbed limit where turbulence or a phase error perturbs the image: no verdict
     out["sweep_perturbed"] = int(not base.is_downlooking and (base.atmosphere is not None
                                                              or base.platform.phase_error is not None))
+    # a target in a scene: its sidelobes hold the scene (salkit.report.judge.CLUTTER_WHY)
+    out["sweep_in_clutter"] = int(not base.is_downlooking and base.scene.extended is not None)
     for name in measured_metrics(ds):
         t = theory_name(name)
         if t in ds.data_vars:
@@ -325,6 +328,11 @@ def summary(ds: xr.Dataset) -> dict:
             v = ds[name]
             stat = (v.mean("realisation", skipna=True) if mean else v.median("realisation", skipna=True)).values
             th = (ds[t].mean("realisation", skipna=True) if mean else ds[t].median("realisation", skipna=True)).values
+            if name.endswith("_db"):  # levels in dB differ from theory by dB, not by a ratio
+                dev = np.abs(stat - th)
+                if np.isfinite(dev).any():
+                    out[f"{name}_minus_theory_max_db"] = float(np.nanmax(dev))
+                continue
             with np.errstate(divide="ignore", invalid="ignore"):
                 dev = np.abs(stat / th - 1)
             if np.isfinite(dev).any():
