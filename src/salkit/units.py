@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 #: Suffixes and their units, longest first (the first that matches wins).
 SUFFIXES: tuple[tuple[str, str], ...] = (
     ("_m_s", "m/s"), ("_per_s", "1/s"), ("_rad_m2", "rad/m^2"), ("_hz_m", "Hz/m"), ("_db", "dB"),
@@ -38,7 +40,51 @@ NAMED: dict[str, str] = {
     "grid_dy": "m", "frequency_min": "Hz", "frequency_max": "Hz", "fringe_period_theory": "m",
     "irw_azimuth_theory": "m", "irw_range_theory": "m", "islr_theory": "dB", "pslr_theory": "dB",
     "illuminated_azimuth": "m", "illuminated_range": "m", "range_reference": "m",
+    # image measures
+    "entropy": "nats", "contrast": "",
 }
+
+#: Yes/no quantities stored as 0/1 (NetCDF and metrics.json hold no booleans): shown as true/false,
+#: never drawn or judged as a measurement.
+FLAGS = frozenset({"iq", "wavelength_derived", "design_wavelength_derived", "speckle", "beam_weighting",
+                   "rvp_removed", "noise_added", "collection_time_nominal", "image_out_of_core", "extended_scene",
+                   "sweep_perturbed", "sweep_in_clutter"})
+
+#: Bookkeeping numbers of a run that are not measurements (indices, counts of what was done).
+NOT_MEASUREMENTS = frozenset({"target_index", "tiles", "focus_s", "simulate_s", "form_s", "autofocus_s"})
+
+def display_scale(unit: str, values) -> tuple[float, str]:
+    """The factor and unit to draw ``values`` (in ``unit``) with, so that the largest stays between 1
+    and 1000 (GHz, cm, us); other units unscaled.
+
+    Parameters
+    ----------
+    unit : str
+        SI unit of the values ("m", "Hz", "s", ...).
+    values : array-like
+
+    Returns
+    -------
+    (float, str)
+        Divide by the factor; the unit to write.
+
+    Examples
+    --------
+    >>> display_scale("Hz", [4e9, 1.6e10])
+    (1000000000.0, 'GHz')
+    >>> display_scale("m", [0.0125, 0.0188])
+    (0.01, 'cm')
+    """
+    v = np.asarray(values, dtype=float)
+    v = np.abs(v[np.isfinite(v)])
+    if unit not in SCALES or not v.size or v.max() == 0:
+        return 1.0, unit
+    top = float(v.max())
+    for factor, name in SCALES[unit]:
+        if top >= factor * (1 - 1e-9):
+            return factor, name
+    return SCALES[unit][-1]
+
 
 #: Units a value is shown in so that it stays between 1 and 1000 (largest first).
 SCALES = {

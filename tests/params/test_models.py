@@ -34,3 +34,23 @@ def test_zero_cn2_is_the_turbulence_free_path():
     for bad in (-1e-15, [0.0] * 10):
         with pytest.raises(ScenarioError, match="cn2"):
             parse_scenario(merge(SPOT, atmosphere={"cn2": bad, "layers": 10}))
+
+
+def test_grid_spacing_auto_follows_the_resolution_through_a_sweep():
+    """``dx: auto`` / ``dy: auto``: AUTO_GRID_FRACTION (one half) of the nominal resolution, kept as
+    'auto' in the dumped scenario, so that a sweep of the bandwidth gets a finer pixel at each point
+    (a fixed 1.5 cm pixel undersampled 12 GHz); a scenario without what it needs is refused naming dx."""
+    import yaml
+
+    from salkit.params.models import AUTO_GRID_FRACTION, nominal_resolution
+    sc = parse_scenario(merge(SPOT, processing__grid__dx="auto", processing__grid__dy="auto"))
+    res = nominal_resolution(SPOT)
+    assert sc.processing.grid.dy == pytest.approx(AUTO_GRID_FRACTION * 299792458.0 / (2 * 7.5e9))
+    assert sc.processing.grid.dx == pytest.approx(AUTO_GRID_FRACTION * res["azimuth"])
+    d = yaml.safe_load(dump_scenario(sc))
+    d["waveform"]["bandwidth"] = 15e9
+    assert parse_scenario(d).processing.grid.dy == pytest.approx(sc.processing.grid.dy / 2)
+    bad = merge(SPOT, processing__grid__dx="auto")
+    bad["platform"] = {k: v for k, v in bad["platform"].items() if k != "aperture_length"}
+    with pytest.raises(ScenarioError, match="processing.grid.dx"):
+        parse_scenario(bad)

@@ -72,6 +72,7 @@ def main(argv=None) -> int:
                               if args.sweep_realisations or f.stem in DEMO_SWEEP_REALISATIONS else []))
         with RunFolder(out / f"sweep_{f.stem}", overwrite=True, keep_on_failure=(CHECKPOINT,)) as tmp, _Bar() as bar:
             return request.description, run_sweep(sc, plan, invalid, tmp, workers=0, progress=bar,
+                                                   name=request.name, description=request.description or None,
                                                    index="../index.html", command=command)
 
     jobs = [(f.stem, f, example) for f in sorted(_examples_dir().glob("*.yaml"))]

@@ -10,10 +10,10 @@ import typer
 
 from .app import _guard, out
 from .options import _examples_dir, _preflight
+from ..units import FLAGS
 
 #: Attributes stored as 0/1 (NetCDF has no booleans) that mean yes/no.
-FLAG_KEYS = frozenset({"iq", "wavelength_derived", "design_wavelength_derived", "speckle", "beam_weighting",
-                       "rvp_removed", "noise_added", "collection_time_nominal", "image_out_of_core"})
+FLAG_KEYS = FLAGS
 
 
 def _typed(d):

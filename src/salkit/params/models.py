@@ -298,6 +298,9 @@ class Grid(_Frozen):
     dy: float = Field(gt=0, description="range spacing, m")
     plane: Literal[PLANES] = "slant"
     center: tuple[float, float] = (0.0, 0.0)
+    auto: tuple[Literal["dx", "dy"], ...] = Field(default=(), description=(
+        "spacings that follow the resolution (written dx: auto / dy: auto): AUTO_GRID_FRACTION of the "
+        "nominal slant-plane resolution, recomputed whenever the scenario changes (a sweep's points)"))
 
     @property
     def extent(self) -> tuple[float, float]:
@@ -449,6 +452,71 @@ class _ScenarioBase(_Frozen):
     scene: Scene
 
 
+#: ``dx: auto`` / ``dy: auto``: the pixel spacing as this fraction of the nominal resolution (two
+#: pixels a resolution cell: the impulse response is sampled at better than complex Nyquist, and its
+#: IRW, PSLR and ISLR are measured at every point of a sweep of the bandwidth or the aperture).
+AUTO_GRID_FRACTION = 0.5
+
+
+def _number(section: dict, key: str, default=None):
+    v = section.get(key, default)
+    try:
+        return float(v)
+    except (TypeError, ValueError):
+        return None
+
+
+def nominal_resolution(data: dict) -> dict:
+    """The nominal slant-plane resolutions (m) of a scenario given as data, for ``dx: auto``:
+    range c / (2 B); azimuth lambda R / (2 L) for a spotlight aperture L at the slant range R, D / 2
+    for stripmap (D the telescope aperture). The exact image-plane figures
+    (:func:`salkit.geometry.resolution_theory`) are the same or coarser (a ground plane, a window).
+
+    Parameters
+    ----------
+    data : dict
+        The scenario mapping (``waveform``, ``platform``).
+
+    Returns
+    -------
+    dict
+        ``range``, ``azimuth`` (m).
+
+    Raises
+    ------
+    FieldProblem
+        Naming ``processing.grid.dx`` or ``dy`` when the fields it needs are missing.
+
+    Examples
+    --------
+    >>> r = nominal_resolution({"waveform": {"wavelength": 1.55e-6, "bandwidth": 7.5e9},
+    ...                         "platform": {"mode": "spotlight", "altitude": 3000, "standoff": 4000,
+    ...                                      "aperture_length": 0.19375}})
+    >>> round(r["range"], 4), round(r["azimuth"], 4)
+    (0.02, 0.02)
+    """
+    w = data.get("waveform") if isinstance(data.get("waveform"), dict) else {}
+    p = data.get("platform") if isinstance(data.get("platform"), dict) else {}
+    bw = _number(w, "bandwidth")
+    if bw is None and _number(w, "chirp_rate") and _number(w, "pulse_width"):
+        bw = _number(w, "chirp_rate") * _number(w, "pulse_width")
+    if not bw or bw <= 0:
+        raise FieldProblem("processing.grid.dy", "auto", "needs waveform.bandwidth (a positive number)")
+    out = {"range": SPEED_OF_LIGHT / (2 * bw)}
+    lam = _number(w, "wavelength")
+    if p.get("mode", "spotlight") == "stripmap":
+        D = _number(p, "real_aperture")
+        out["azimuth"] = D / 2 if D else None
+    else:
+        R = math.hypot(_number(p, "altitude", 0.0) or 0.0, _number(p, "standoff", 0.0) or 0.0)
+        L = _number(p, "aperture_length")
+        out["azimuth"] = lam * R / (2 * L) if lam and L and R else None
+    if not out["azimuth"] or out["azimuth"] <= 0:
+        raise FieldProblem("processing.grid.dx", "auto", "needs waveform.wavelength and platform.aperture_length "
+                           "(spotlight) or platform.real_aperture (stripmap)")
+    return out
+
+
 class Scenario(_ScenarioBase):
     """A synthetic aperture ladar scenario: waveform, platform, scene, receiver, processing, and
     optionally an atmosphere, one of the seed experiments (turbulence, chirp, space-borne) and
@@ -467,6 +535,25 @@ class Scenario(_ScenarioBase):
     experiment: Optional[TurbulenceExperiment | ChirpExperiment | SpaceborneExperiment] = Field(
         default=None, discriminator="kind")
     stack: StackSettings = StackSettings()
+
+    @model_validator(mode="before")
+    @classmethod
+    def _auto_grid(cls, data):
+        # processing.grid.dx/dy = auto: a spacing that follows the resolution (nominal_resolution)
+        if not isinstance(data, dict):
+            return data
+        proc = data.get("processing")
+        grid = proc.get("grid") if isinstance(proc, dict) else None
+        if not isinstance(grid, dict):
+            return data
+        auto = [k for k in ("dx", "dy") if grid.get(k) == "auto" or k in (grid.get("auto") or ())]
+        if not auto:
+            return data
+        res = nominal_resolution(data)
+        grid = {**grid, "auto": tuple(auto)}
+        for k in auto:
+            grid[k] = AUTO_GRID_FRACTION * res["azimuth" if k == "dx" else "range"]
+        return {**data, "processing": {**proc, "grid": grid}}
 
     @model_validator(mode="before")
     @classmethod

@@ -18,7 +18,8 @@ IMAGES = "images"
 
 
 def run_sweep(scenario, plan, invalid: dict, out_dir, *, workers: int | None = None, scheduler: str | None = None,
-              progress=None, command: str | None = None, index: str | None = None, keep_images: bool = False) -> dict:
+              progress=None, command: str | None = None, index: str | None = None, keep_images: bool = False,
+              name: str | None = None, description: str | None = None) -> dict:
     """Run a prepared sweep (:func:`salkit.systems.study.prepare`) and write it into ``out_dir``.
 
     Parameters
@@ -40,6 +41,9 @@ def run_sweep(scenario, plan, invalid: dict, out_dir, *, workers: int | None = N
         As :func:`salkit.report.write_run`.
     keep_images : bool
         Keep every run's images in ``images/`` (``p<point>_r<realisation>_image.nc``).
+    name, description : str, optional
+        The study's name and description (a sweep file's; default "sweep of SCENARIO over FIELDS"
+        and the scenario's description): the report's title.
 
     Returns
     -------
@@ -59,4 +63,6 @@ def run_sweep(scenario, plan, invalid: dict, out_dir, *, workers: int | None = N
         with dask_client(scheduler, workers) as client:
             ds = execute(plan, invalid, run_point, client=client, checkpoint=out / CHECKPOINT, progress=tick, images=images)
     shutil.rmtree(out / CHECKPOINT)
-    return write_run(as_result(ds, scenario.name, scenario.description), out, command=command, index=index)
+    fields = ", ".join(a.field for a in plan.axes)
+    title = f"study {name} (sweep of {scenario.name})" if name else f"sweep of {scenario.name} over {fields}"
+    return write_run(as_result(ds, title, description or scenario.description), out, command=command, index=index)

@@ -11,6 +11,7 @@ from .. import tolerances as tol
 from ..geometry.orbit import max_squint_for, resolution_vs_squint
 from ..metrics.pointtarget import cut_curves
 from ..papers import published
+from ..units import FLAGS, NOT_MEASUREMENTS
 from ..plot import downlooking as dlplot
 from ..systems.result import RunResult
 from .contexts import downlooking_context, table3_cells
@@ -202,7 +203,8 @@ def write_sweep(result: RunResult, out: Path, page: dict | None = None) -> None:
     axes = sweep["axes"]
     if "point" in ds.dims:  # zipped: draw against the first field's values
         ds = ds.swap_dims({"point": axes[0]["field"]})
-    names = [n for n in result.figures["metrics"] if not sweep["metrics"] or n in sweep["metrics"]]
+    names = [n for n in result.figures["metrics"] if (not sweep["metrics"] or n in sweep["metrics"])
+             and n not in FLAGS and n not in NOT_MEASUREMENTS]  # yes/no flags are not drawn as metrics
     names = sorted(names, key=lambda n: plot.metric_theory(ds, n) is None)[:SWEEP_FIGURES]
     figs = []
     for n in names:

@@ -161,6 +161,8 @@ class SweepFile:
     sets : tuple of str
         ``--set`` overrides of the base scenario.
     description : str
+    name : str
+        The study's name (a sweep file's stem; empty for a sweep given by options): the report's title.
     """
 
     scenario: Path
@@ -170,6 +172,7 @@ class SweepFile:
     metrics: tuple = ()
     sets: tuple = ()
     description: str = ""
+    name: str = ""
 
 
 #: The keys a sweep file may hold.
@@ -268,7 +271,7 @@ def resolve_request(scenario, vary=(), sets=(), zipped: bool = False, realisatio
         mine = {v.split("=", 1)[0].strip() for v in vary}
         sf = SweepFile(sf.scenario, tuple(v for v in sf.vary if v.split("=", 1)[0] not in mine) + tuple(vary),
                        sf.zipped or zipped, realisations or sf.realisations, tuple(metrics) or sf.metrics,
-                       sf.sets + tuple(sets), sf.description)
+                       sf.sets + tuple(sets), sf.description, path.stem)
     else:
         sf = SweepFile(path, tuple(vary), zipped, realisations or 1, tuple(metrics), tuple(sets))
     if not sf.vary:
