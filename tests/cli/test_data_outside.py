@@ -19,7 +19,9 @@ def raw_file(tmp_path_factory):
 
 
 def test_convert_cphd_and_focus_it(tmp_path, raw_file):
-    r = runner.invoke(app, ["convert", str(raw_file), str(tmp_path / "r.cphd")])
+    r = runner.invoke(app, ["convert", str(raw_file), str(tmp_path / "r.cphd")])  # where on the earth?
+    assert r.exit_code == 2 and "--origin" in r.output and not (tmp_path / "r.cphd").exists()
+    r = runner.invoke(app, ["convert", str(raw_file), str(tmp_path / "r.cphd"), "--origin", "48.1,11.6,520"])
     assert r.exit_code == 0, r.output
     assert "0 errors" in r.output
     r = runner.invoke(app, ["focus", str(tmp_path / "r.cphd"), "--out", str(tmp_path / "f"), "--algorithm", "pfa"])
@@ -62,8 +64,25 @@ def test_pulse_autofocus_from_cli(tmp_path, raw_file):
 
 
 def test_focus_with_sicd_and_export(tmp_path, raw_file):
+    """SICD places the image on the earth: without a geographic reference (scene.origin, the file's
+    origin_llh, --origin) --sicd and export refuse naming --origin (the image used to land at 0 N 0 E
+    without a word); with --origin the image carries its corners' and centre's geodetic positions."""
     r = runner.invoke(app, ["focus", str(raw_file), "--out", str(tmp_path / "s"), "--sicd"])
+    assert r.exit_code == 2 and "--origin" in r.output and not (tmp_path / "s").exists()
+    r = runner.invoke(app, ["focus", str(raw_file), "--out", str(tmp_path / "n")])
     assert r.exit_code == 0, r.output
+    r = runner.invoke(app, ["export", str(tmp_path / "n" / "image.nc"), str(tmp_path / "n.nitf")])
+    assert r.exit_code == 2 and "--origin" in r.output and not (tmp_path / "n.nitf").exists()
+    r = runner.invoke(app, ["focus", str(raw_file), "--out", str(tmp_path / "s"), "--sicd",
+                            "--origin", "48.8583,2.2945,35"])
+    assert r.exit_code == 0, r.output
+    from salkit.io import open_dataset
+    img = open_dataset(tmp_path / "s" / "image.nc")
+    assert img.attrs["center_latitude"] == pytest.approx(48.8583, abs=1e-9)  # the target sits at the centre
+    assert img.attrs["center_longitude"] == pytest.approx(2.2945, abs=1e-9)
+    lat, lon = img.attrs["corner_latitude"], img.attrs["corner_longitude"]
+    # 128 x 1.5 cm a side: the corners lie about 0.96 m apart along each axis
+    assert len(lat) == 4 and abs(lat.max() - lat.min()) * 111_000 < 2.0 and abs(lon.max() - lon.min()) > 0
     assert (tmp_path / "s" / "image.nitf").is_file() and "0 errors" in r.output
     r = runner.invoke(app, ["export", str(tmp_path / "s" / "image.nc"), str(tmp_path / "x.nitf"),
                             "--origin", "48.1,11.6,520"])

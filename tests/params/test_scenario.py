@@ -38,7 +38,7 @@ def test_round_trip_dump(spot):
     ("receiver__noise__quantum_efficiency", 1.5, "receiver.noise.quantum_efficiency", "less than or equal"),
     ("receiver__noise__signal_photons", 0.0, "receiver.noise.signal_photons", "greater than 0"),
     ("processing__algorithm", "magic", "processing.algorithm", "bp"),
-    ("waveform__colour", "red", "waveform.colour", "Extra inputs"),
+    ("waveform__colour", "red", "waveform.colour", "is not a field of waveform"),
 ])
 def test_bad_fields_name_field_value_constraint(path, value, field, words):
     with pytest.raises(ScenarioError) as ei:

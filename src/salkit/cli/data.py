@@ -9,7 +9,8 @@ from typing import Optional
 import typer
 
 from .app import _Bar, _command_line, _guard, out
-from .options import _check_out_file, _export_sicd, _grid, _origin, _report_check, _summary, apply_memory_limit
+from .options import (NO_ORIGIN, _check_out_file, _export_sicd, _grid, _origin, _report_check, _summary,
+                      apply_memory_limit)
 
 
 @_guard
@@ -25,7 +26,8 @@ def focus(raw: Path = typer.Argument(..., metavar="RAW", help="raw or phase-hist
           plane: Optional[str] = typer.Option(None, metavar="NAME", help="image plane: slant | ground (alone: the default grid in that plane)"),
           autofocus: Optional[str] = typer.Option(None, metavar="NAME", help="none | pga | min-entropy (on the image) | pulse (one phase per pulse)"),
           kernel: Optional[str] = typer.Option(None, metavar="NAME", help="PGA phase-gradient kernel: pd | lumv | ev"),
-          sicd: bool = typer.Option(False, "--sicd", help="also write the image as SICD (image.nitf), checked by sarkit"),
+          sicd: bool = typer.Option(False, "--sicd", help="also write the image as SICD (image.nitf), checked by sarkit; needs a geographic reference (the data's or --origin)"),
+          origin: Optional[str] = typer.Option(None, metavar="LAT,LON,HAE", help="where the scene frame's origin lies on the earth (WGS84 deg, deg, m): the image gets its pixels' geodetic positions; default the data's own (scene.origin, a CPHD's reference point)"),
           memory_limit: Optional[str] = typer.Option(None, "--memory-limit", metavar="SIZE", help="memory budget, e.g. 512MiB or 4GiB (default: what is available): a bigger job runs in tiles of the image (bp, ffbp) and, for bp, blocks of pulses read from the .nc as needed"),
           workers: Optional[int] = typer.Option(None, metavar="N", help="form the image's tiles on a local Dask cluster of N worker processes (bp, ffbp; at least two tiles a worker)"),
           scheduler: Optional[str] = typer.Option(None, metavar="ADDRESS", help="form the tiles on an existing Dask cluster, e.g. tcp://host:8786 (each worker reads the .nc itself: a path they can all reach)"),
@@ -61,6 +63,11 @@ def focus(raw: Path = typer.Argument(..., metavar="RAW", help="raw or phase-hist
         globals()["out"].print(f"wrote {Path(out_dir) / 'image.nc'}")
         return
     ds = read_phase_data(raw, lazy=True)  # NetCDF, CPHD: the signal read as focusing needs it
+    llh = _origin(origin)
+    if llh is not None:
+        ds.attrs["origin_llh"] = llh
+    if sicd and "origin_llh" not in ds.attrs:  # before any work: SICD places the image on the earth
+        raise ScenarioError("--origin", None, NO_ORIGIN)
     if grid is None and plane is not None:
         src = "the scenario stored in the file" if "scenario" in ds.attrs else "the default (256 x 256 at 0.8 of the resolution)"
         out.print(f"--plane {plane} without --nx/--ny/--dx/--dy: grid size and spacing from {src}, "
@@ -80,7 +87,7 @@ def focus(raw: Path = typer.Argument(..., metavar="RAW", help="raw or phase-hist
                                 image_file=tmp / "image.nc")  # an image larger than memory goes there tile by tile
         m = write_run(result, tmp, command=_command_line())  # written without the cluster (its file locks)
         if sicd:
-            _export_sicd(tmp / "image.nc", tmp / "image.nitf", None)
+            _export_sicd(tmp / "image.nc", tmp / "image.nitf", origin)
     _summary(m, out_dir)
 
 
@@ -99,7 +106,7 @@ def _dask_or_not(workers: Optional[int], scheduler: Optional[str]):
 def export(image: Path = typer.Argument(..., metavar="IMAGE.nc", help="salkit image file (image.nc of a run)"),
            dst: Path = typer.Argument(..., metavar="DST.nitf", help="SICD file to write (.nitf or .ntf)"),
            origin: Optional[str] = typer.Option(None, metavar="LAT,LON,HAE", help="scene centre as LAT,LON,HAE (deg, deg, m); default "
-                                                "the image's origin_llh, else 0,0,0"),
+                                                "the image's origin_llh (SICD needs one)"),
            overwrite: bool = typer.Option(False, "--overwrite", help="replace an existing file")):
     """Export a focused image as SICD 1.3.0 (NITF), metadata from the image and its collection."""
     from ..errors import ScenarioError
@@ -113,7 +120,7 @@ def export(image: Path = typer.Argument(..., metavar="IMAGE.nc", help="salkit im
 def convert(src: Path = typer.Argument(..., metavar="SRC", help="input: .nc (raw or phase history), .cphd or .mat (GOTCHA)"),
             dst: Path = typer.Argument(..., metavar="DST", help="output: .nc (phase history), .cphd or .mat"),
             origin: Optional[str] = typer.Option(None, metavar="LAT,LON,HAE", help="scene centre for CPHD as LAT,LON,HAE (deg, deg, m); "
-                                                 "default the file's origin_llh, else 0,0,0"),
+                                                 "default the file's origin_llh (a CPHD needs one)"),
             check: bool = typer.Option(True, help="run sarkit's consistency checker on a written CPHD"),
             overwrite: bool = typer.Option(False, "--overwrite", help="replace an existing file")):
     """Convert phase histories between salkit NetCDF, CPHD and the GOTCHA .mat layout."""
@@ -128,6 +135,8 @@ def convert(src: Path = typer.Argument(..., metavar="SRC", help="input: .nc (raw
     ds = read_phase_data(src)
     ph = range_compress(ds) if ds.attrs.get("salkit_kind") == "raw" else ds
     if suf == ".cphd":
+        if llh is None and "origin_llh" not in ph.attrs:  # CPHD places the collection on the earth
+            raise ScenarioError("--origin", None, NO_ORIGIN)
         write_cphd(ph, dst, origin=llh)
         if check:
             _report_check(check_cphd(dst))

@@ -113,9 +113,18 @@ def _report_check(res: dict) -> None:
         raise typer.Exit(code=1)
 
 
+#: The refusal of an export that would place data on the earth without knowing where.
+NO_ORIGIN = ("the data have no geographic reference (no scene.origin in their scenario, no origin_llh in the file): "
+             "give --origin LAT,LON,HAE (WGS84 deg, deg, m) for the scene centre; salkit does not place them at "
+             "latitude 0, longitude 0")
+
+
 def _export_sicd(src: Path, dst: Path, origin: Optional[str]) -> None:
+    from ..errors import ScenarioError
     from ..io import check_sicd, read_image, write_sicd
     img = read_image(src)
+    if origin is None and "origin_llh" not in img.attrs:
+        raise ScenarioError("--origin", None, NO_ORIGIN)
     write_sicd(img, dst, origin=_origin(origin))
     _report_check(check_sicd(dst))
     out.print(f"wrote {dst} (SICD 1.3.0; sarkit consistency check: 0 errors)", highlight=False)

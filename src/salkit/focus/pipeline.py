@@ -17,6 +17,7 @@ import xarray as xr
 from ..choices import ACCURACY, PLANES, check_choice
 from ..errors import DataFileError, ResourceError, ScenarioError
 from ..geometry.collection import truth_positions
+from ..geometry.geodesy import image_geolocation
 from ..io.datasets import ImageFileWriter, lazy_reads, make_image_dataset, open_dataset
 from ..metrics.pointtarget import window_ipr
 from ..params.models import Grid, Processing, Scenario
@@ -187,6 +188,8 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
     ig = ImageGrid.of(ph, g)
     win = Window(window_name or p.window, p.taylor_nbar, p.taylor_sll)
     attrs = _image_attrs(ph, raw, scenario, g, alg, win, res)
+    if "origin_llh" in attrs:  # placed on the earth: the pixels' geodetic positions (corners, centre)
+        attrs.update(image_geolocation(attrs["origin_llh"], ig.plane, ig.azimuth, ig.range))
     truth = None
     if scenario is not None and scenario.scene.points:
         truth = truth_positions(scenario.model_copy(update={"processing": scenario.processing.model_copy(

@@ -121,7 +121,7 @@ def write_cphd(ph: xr.Dataset, path: str | Path, origin=None, collector: str = "
     P, M = data.shape
     pos_l = np.asarray(ph["position"].values, np.float64)
     ref = np.asarray(ph["reference_range"].values, np.float64)
-    llh = np.asarray(ph.attrs.get("origin_llh", origin if origin is not None else DEFAULT_ORIGIN), np.float64)
+    llh = np.asarray(origin if origin is not None else ph.attrs.get("origin_llh", DEFAULT_ORIGIN), np.float64)
     o_ecf, rot = local_frame(llh)
     st = np.asarray(ph["slow_time"].values, np.float64)
     if ph.attrs.get("slow_time_units") == "pulse":  # no times in the data: a nominal 1 kHz

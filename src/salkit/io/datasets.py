@@ -149,6 +149,7 @@ def make_raw_dataset(signal: np.ndarray, collection, fast_time: np.ndarray, scen
             "scene_center": [0.0, 0.0, 0.0],
             "signal_units": signal_units,
             "noise_added": noise,
+            "origin_llh": list(scenario.scene.origin) if scenario.scene.origin is not None else None,
             "scenario": dump_scenario(scenario),
         }),
     )

@@ -65,7 +65,8 @@ def sicd_xml(image: xr.Dataset, origin=None, core_name: str = "salkit"):
     image : xarray.Dataset
         salkit image with ``collection_position`` and ``collection_time``.
     origin : (lat deg, lon deg, hae m), optional
-        Geodetic position of the scene centre (default the image's ``origin_llh``, else 0, 0, 0).
+        Geodetic position of the scene centre (default the image's ``origin_llh``, else 0, 0, 0: the
+        command line refuses that, naming ``--origin``).
     core_name : str
         CollectionInfo/CoreName.
 
@@ -92,7 +93,8 @@ def sicd_xml(image: xr.Dataset, origin=None, core_name: str = "salkit"):
     a = image.attrs
     az, rg = image["azimuth"].values, image["range"].values
     nx, ny = az.size, rg.size
-    llh = np.asarray(a.get("origin_llh", origin if origin is not None else DEFAULT_ORIGIN), np.float64)
+    # an origin given explicitly wins over the image's own
+    llh = np.asarray(origin if origin is not None else a.get("origin_llh", DEFAULT_ORIGIN), np.float64)
     o_ecf, rot = local_frame(llh)
     u_az = rot @ np.asarray(a["azimuth_axis"], np.float64)
     u_rg = rot @ np.asarray(a["range_axis"], np.float64)

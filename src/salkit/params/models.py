@@ -214,6 +214,18 @@ class Scene(_Frozen):
 
     points: tuple[PointTarget, ...] = ()
     extended: Optional[ExtendedScene] = None
+    origin: Optional[tuple[float, float, float]] = Field(default=None, description=(
+        "where the scene frame's origin (x east, y north, z up) lies on the earth: WGS84 latitude (deg), "
+        "longitude (deg), height above the ellipsoid (m); images then carry the geodetic positions of "
+        "their pixels, and SICD, CPHD and GeoTIFF exports place them there"))
+
+    @field_validator("origin")
+    @classmethod
+    def _origin(cls, v):
+        if v is not None and (abs(v[0]) > 90 or not -180 <= v[1] <= 360):
+            raise ValueError(f"{list(v)} must be [latitude deg, longitude deg, height m] with |latitude| <= 90 "
+                             "and longitude in [-180, 360]")
+        return v
 
     @model_validator(mode="after")
     def _nonempty(self) -> "Scene":
