@@ -23,10 +23,11 @@ venv: $(STAMP)
 demo: $(STAMP)
 	$(PY) -m salkit.cli.demo --out results
 
-# Headless Chromium (Debian's package) renders the demo's pages in one test; installed here where
-# apt-get can (as root), else that test is skipped saying so.
+# Headless Chromium (Debian's package) renders the demo's pages in one test, and gdalinfo (gdal-bin)
+# reads the GeoTIFF export in another; installed here where apt-get can (as root), else the first is
+# skipped saying so and the second reads the file through rasterio's GDAL only.
 CHROMIUM = command -v chromium >/dev/null 2>&1 || { [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1 && \
-	( timeout 300 apt-get update -qq && DEBIAN_FRONTEND=noninteractive timeout 300 apt-get install -y -qq chromium ) \
+	( timeout 300 apt-get update -qq && DEBIAN_FRONTEND=noninteractive timeout 300 apt-get install -y -qq chromium gdal-bin ) \
 	>/dev/null 2>&1; } || echo "note: no Chromium (apt-get install chromium): the rendered-page test will be skipped"
 
 test: $(STAMP)

@@ -31,6 +31,11 @@ def test_sicd_export_is_consistent(tmp_path, case):
     np.testing.assert_array_equal(pix, ref[:, ::-1] if info["columns_flipped"] else ref)
     assert info["position_fit_residual"] < 1e-6
     assert tree.findtext("{*}Grid/{*}ImagePlane") == ("GROUND" if case == "ground" else "SLANT")
+    # sarpy, an independent reader, validates it too (it asks for the imaged area's corners, ACP)
+    from sarpy.io.complex.converter import open_complex
+    meta = open_complex(str(p)).sicd_meta
+    assert meta.is_valid(recursive=True, stack=False)
+    assert meta.GeoData.SCP.LLH.Lat == pytest.approx(35.0, abs=1e-3)
 
 
 def test_sicd_refuses_a_horizontal_look(tmp_path, geo):

@@ -108,12 +108,43 @@ def export(image: Path = typer.Argument(..., metavar="IMAGE.nc", help="salkit im
            origin: Optional[str] = typer.Option(None, metavar="LAT,LON,HAE", help="scene centre as LAT,LON,HAE (deg, deg, m); default "
                                                 "the image's origin_llh (SICD needs one)"),
            overwrite: bool = typer.Option(False, "--overwrite", help="replace an existing file")):
-    """Export a focused image as SICD 1.3.0 (NITF), metadata from the image and its collection."""
+    """Export a focused image as SICD 1.3.0 (.nitf: the complex image, metadata from the image and its
+    collection) or as a Cloud-Optimised GeoTIFF (.tif: the detected image of a ground-plane image on
+    its map); both need a geographic reference (the image's or --origin)."""
     from ..errors import ScenarioError
     _check_out_file(dst, overwrite, "dst")
-    if dst.suffix.lower() not in (".nitf", ".ntf"):
-        raise ScenarioError("dst", str(dst), "SICD files end in .nitf or .ntf")
+    suf = dst.suffix.lower()
+    if suf not in (".nitf", ".ntf", ".tif", ".tiff"):
+        raise ScenarioError("dst", str(dst), "SICD files end in .nitf or .ntf, GeoTIFFs in .tif or .tiff")
+    if suf in (".tif", ".tiff"):
+        _export_geotiff(image, dst, origin)
+        return
     _export_sicd(image, dst, origin)
+
+
+def _export_geotiff(src: Path, dst: Path, origin: Optional[str]) -> None:
+    """The detected image as a COG; an --origin given here places it (and wins over the image's)."""
+    import types
+
+    import numpy as np
+
+    from ..errors import ScenarioError
+    from ..geometry.geodesy import image_geolocation
+    from ..io import read_image
+    from ..io.geotiff import write_geotiff
+    img = read_image(src)
+    llh = _origin(origin)
+    if llh is None and "origin_llh" not in img.attrs:
+        raise ScenarioError("--origin", None, NO_ORIGIN)
+    if llh is not None:
+        a = img.attrs
+        plane = types.SimpleNamespace(origin=np.asarray(a["plane_origin"], float),
+                                      azimuth=np.asarray(a["azimuth_axis"], float), range=np.asarray(a["range_axis"], float))
+        img.attrs.update(origin_llh=np.asarray(llh, float),
+                         **image_geolocation(llh, plane, img["azimuth"].values, img["range"].values))
+    info = write_geotiff(img, dst)
+    out.print(f"wrote {dst} (Cloud-Optimised GeoTIFF of |image|; corners within {info['misfit_pixels']:.2g} pixel "
+              "of the affine map)", highlight=False)
 
 
 @_guard

@@ -134,6 +134,9 @@ def sicd_xml(image: xr.Dataset, origin=None, core_name: str = "salkit"):
     cll = wgs84.cartesian_to_geodetic(np.array(corners))
     icp = "".join(f'<ICP index="{k}"><Lat>{_f(cll[i, 0])}</Lat><Lon>{_f(cll[i, 1])}</Lon></ICP>'
                   for i, k in enumerate(("1:FRFC", "2:FRLC", "3:LRLC", "4:LRFC")))
+    # the imaged area's corners (RadarCollection/Area): the image corners at the SCP's height
+    acp = "".join(f'<ACP index="{k + 1}"><Lat>{_f(cll[k, 0])}</Lat><Lon>{_f(cll[k, 1])}</Lon>'
+                  f'<HAE>{_f(scp_llh[2])}</HAE></ACP>' for k in range(4))
     plane = {"slant": "SLANT", "ground": "GROUND"}.get(str(a.get("plane", "slant")), "OTHER")
     mode = "SPOTLIGHT" if str(a.get("mode", "spotlight")) == "spotlight" else "STRIPMAP"
     af = "GLOBAL" if a.get("autofocus") not in (None, "", "none") else "NO"
@@ -162,6 +165,7 @@ def sicd_xml(image: xr.Dataset, origin=None, core_name: str = "salkit"):
 <Position>{_xyzpoly('ARPPoly', coefs)}</Position>
 <RadarCollection><TxFrequency><Min>{_f(fmin)}</Min><Max>{_f(fmax)}</Max></TxFrequency><TxPolarization>UNKNOWN</TxPolarization>
 <RcvChannels size="1"><ChanParameters index="1"><TxRcvPolarization>UNKNOWN</TxRcvPolarization></ChanParameters></RcvChannels>
+<Area><Corner>{acp}</Corner></Area>
 </RadarCollection>
 <ImageFormation><RcvChanProc><NumChanProc>1</NumChanProc><ChanIndex>1</ChanIndex></RcvChanProc>
 <TxRcvPolarizationProc>UNKNOWN</TxRcvPolarizationProc><TStartProc>0.0</TStartProc><TEndProc>{_f(t[-1])}</TEndProc>
@@ -182,6 +186,9 @@ def sicd_xml(image: xr.Dataset, origin=None, core_name: str = "salkit"):
         for i, icp in enumerate(root.find(f"{{{NS}}}GeoData/{{{NS}}}ImageCorners")):
             icp.find(f"{{{NS}}}Lat").text = _f(ll[i, 0])
             icp.find(f"{{{NS}}}Lon").text = _f(ll[i, 1])
+        for i, acp in enumerate(root.find(f"{{{NS}}}RadarCollection/{{{NS}}}Area/{{{NS}}}Corner")):
+            acp.find(f"{{{NS}}}Lat").text = _f(ll[i, 0])
+            acp.find(f"{{{NS}}}Lon").text = _f(ll[i, 1])
     return tree, {"position_fit_residual": fit_res, "columns_flipped": bool(flip)}
 
 
