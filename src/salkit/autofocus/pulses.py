@@ -294,8 +294,14 @@ def pulse_focus(raw: xr.Dataset, form: Callable[..., xr.Dataset], chirp_correcti
     Returns
     -------
     (xarray.Dataset, xarray.Dataset, dict)
-        The corrected image, the image before correction, and the autofocus metrics.
+        The corrected image (with ``autofocus_phase`` (pulse), rad: the correction applied), the
+        image before correction, and the autofocus metrics.
     """
     before = form(raw)
     corrected, metrics = pulse_correct(raw, grid_of(before), chirp_correction)
-    return form(corrected, progress=progress), before, metrics
+    image = form(corrected, progress=progress)
+    # the correction applied, kept with the image: a white error fixes the image only up to an azimuth
+    # shift (the linear term), which a user registers with it against a reference (docs/performance.md)
+    image["autofocus_phase"] = (("pulse",), np.asarray(corrected["autofocus_phase"].values, np.float64),
+                                {"units": "rad", "long_name": "per-pulse phase correction applied to the data"})
+    return image, before, metrics
