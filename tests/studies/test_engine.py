@@ -96,3 +96,29 @@ def test_same_numbers_on_dask_even_when_a_worker_dies_mid_point(tmp_path):
     pk = here["peak_amplitude"].values
     assert pk[0, 0] != pk[0, 1]  # the realisations differ ...
     assert np.array_equal(execute(plan, {}, run_point)["peak_amplitude"].values, pk)  # ... and repeat exactly
+
+
+def _half_measured(data, metrics, keep_images):
+    """A runner whose second bandwidth cannot measure its IRW (as a run says when it cannot)."""
+    bw = data["waveform"]["bandwidth"]
+    if bw > 6e9:
+        return {"status": "ok", "metrics": {"irw_range_m": float("nan")}, "seconds": 0.0,
+                "unmeasured": {"irw_range_m": "the response's half-power points fall outside the cells analysed"}}
+    return {"status": "ok", "metrics": {"irw_range_m": C / (2 * bw) * 0.886}, "seconds": 0.0}
+
+
+def test_a_metric_a_point_cannot_measure_is_recorded_with_its_reason():
+    """A NaN in sweep.nc comes with why: ``unmeasured`` per point (it used to be a bare NaN)."""
+    sc = parse_scenario(SPOT)
+    plan = plan_of(sc, {"waveform.bandwidth": "5e9,7.5e9"}, metrics=["irw_range_m"])
+    ds = execute(plan, {}, _half_measured)
+    assert list(ds["unmeasured"].values) == ["", "irw_range_m: the response's half-power points fall outside the "
+                                                 "cells analysed"]
+    assert np.isnan(ds["irw_range_m"].values[1, 0]) and list(ds["status"].values) == ["ok", "ok"]
+
+
+def test_a_run_asked_for_a_figure_it_does_not_measure_says_so():
+    sc = parse_scenario(SPOT)
+    plan = plan_of(sc, {"waveform.bandwidth": "7.5e9"}, metrics=["irw_range_m", "fringe_period_m"])
+    ds = execute(plan, {}, run_point)
+    assert "fringe_period_m: this run measures no such figure" in str(ds["unmeasured"].values[0])

@@ -166,7 +166,8 @@ def analyse_point(image: np.ndarray, az: np.ndarray, rg: np.ndarray, res_az: flo
     Returns
     -------
     dict
-        Peak position (m), amplitude and phase (rad); IRW (m), PSLR and ISLR (dB) per axis.
+        Peak position (m), amplitude and phase (rad); IRW (m), PSLR and ISLR (dB) per axis (NaN where
+        they cannot be measured: ``_unmeasured`` maps those names to the reason).
     """
     nx, ny = image.shape
     dx, dy = float(az[1] - az[0]), float(rg[1] - rg[0])
@@ -210,6 +211,21 @@ def analyse_point(image: np.ndarray, az: np.ndarray, rg: np.ndarray, res_az: flo
     m_rg = ipr_1d(cut_rg, Dy / U, res_rg)
     pa = m_az["peak_index"] / U  # in neighbourhood samples
     pr = m_rg["peak_index"] / U
+    why = {}
+    for ax, m, res in (("azimuth", m_az, res_az), ("range", m_rg, res_rg)):
+        step = dx if ax == "azimuth" else dy
+        reason = None
+        if step > res * (1 + 1e-6):
+            reason = (f"the {100 * step:.3g} cm pixel undersamples the {100 * res:.3g} cm {ax} resolution "
+                      "(a pixel must be at most the resolution)")
+        elif not np.isfinite(m["irw"]):
+            reason = (f"the response's half-power points fall outside the +-{1.5 * SIDELOBE_SPAN:g} cells analysed "
+                      "(a target at the image's edge, or no point target there)")
+        if reason:
+            for key in ("irw", "pslr_db", "islr_db"):  # an undersampled response has no IRW, PSLR or ISLR
+                m[key] = float("nan")
+            for key in (f"irw_{ax}_m", f"pslr_{ax}_db", f"islr_{ax}_db"):
+                why[key] = reason
     val = zoom[kz]
     phase = float(np.angle(val * np.exp(2j * np.pi * (fa * k[0] / U + fr * k[1] / U))))
     flat_phase = phase
@@ -219,6 +235,7 @@ def analyse_point(image: np.ndarray, az: np.ndarray, rg: np.ndarray, res_az: flo
         pk_r = r_org + k[1] / U * Dy
         phase = float(np.angle(np.exp(1j * (phase + float(np.asarray(phase_fn(pk_a, pk_r)))))))
     return {
+        "_unmeasured": why,
         "peak_azimuth_m": float(a_org + pa * Dx),
         "peak_range_m": float(r_org + pr * Dy),
         "peak_amplitude": float(np.abs(val)),

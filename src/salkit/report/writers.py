@@ -214,10 +214,18 @@ def write_sweep(result: RunResult, out: Path, page: dict | None = None) -> None:
                          "alt": f"{n} against {axes[0]['field']}, median over the realisations with the 5-95 % band"})
     status = ds["status"].values.ravel()
     problems = sorted({s for s in status if s != "ok"})
+    unmeasured = []
+    if "unmeasured" in ds:
+        um = ds["unmeasured"]
+        for idx in np.ndindex(um.shape):
+            if str(um.values[idx]):
+                where = ", ".join(f"{d} = {ds[d].values[i]:g}" if np.issubdtype(ds[d].dtype, np.number)
+                                  else f"{d} = {ds[d].values[i]}" for d, i in zip(um.dims, idx))
+                unmeasured.append(f"{where}: {um.values[idx]}")
     lines = result.tables["sweep.csv"].splitlines()
     header, rows = lines[0].split(","), [ln.split(",") for ln in lines[1:SWEEP_TABLE_ROWS + 1]]
     render(out, "sweep.html", result, page, axes=axes, zipped=sweep["zip"], realisations=sweep["realisations"],
-           figs=figs, problems=problems, n_bad=int((status != "ok").sum()), header=header,
+           figs=figs, problems=problems, n_bad=int((status != "ok").sum()), header=header, unmeasured=unmeasured,
            rows=[[c.strip('"') for c in r] for r in rows], more=max(0, len(lines) - 1 - SWEEP_TABLE_ROWS))
 
 

@@ -230,7 +230,8 @@ def require_ok(ds: xr.Dataset, what: str) -> xr.Dataset:
 def assemble(plan: SweepPlan, invalid: dict, records: dict) -> xr.Dataset:
     """The sweep's dataset: one variable per metric (float64, NaN where a run has none), dims the
     varied fields (``point`` when zipped) and ``realisation``; ``status`` per point ("ok", or why
-    it could not run); the base scenario and the definition in the attributes.
+    it could not run); ``unmeasured`` per point (the metrics it could not measure, each with why, or
+    ""); the base scenario and the definition in the attributes.
 
     Parameters
     ----------
@@ -248,6 +249,7 @@ def assemble(plan: SweepPlan, invalid: dict, records: dict) -> xr.Dataset:
     shape = plan.shape + (plan.realisations,)
     data = {n: np.full(shape, np.nan) for n in names}
     status = np.full(plan.shape, "ok", dtype=object)
+    unmeasured = np.full(plan.shape, "", dtype=object)
     seconds = np.full(shape, np.nan)
     for i in range(plan.n_points):
         idx = (i,) if plan.zipped else np.unravel_index(i, plan.shape)
@@ -262,6 +264,8 @@ def assemble(plan: SweepPlan, invalid: dict, records: dict) -> xr.Dataset:
             if rec["status"] != "ok":
                 status[idx] = rec["status"]
             seconds[idx + (r,)] = rec.get("seconds", np.nan)
+            if rec.get("unmeasured") and not unmeasured[idx]:
+                unmeasured[idx] = "; ".join(f"{k}: {v}" for k, v in sorted(rec["unmeasured"].items()))
             for k, v in rec["metrics"].items():
                 data[k][idx + (r,)] = v
     if plan.zipped:
@@ -275,6 +279,7 @@ def assemble(plan: SweepPlan, invalid: dict, records: dict) -> xr.Dataset:
     coords["realisation"] = np.arange(plan.realisations)
     vars_ = {n: (dims + ("realisation",), data[n], {"units": unit_of(n) or "1"}) for n in names}
     vars_["status"] = (dims, status.astype(str))
+    vars_["unmeasured"] = (dims, unmeasured.astype(str), {"long_name": "metrics a point could not measure, and why"})
     vars_["run_seconds"] = (dims + ("realisation",), seconds, {"units": "s"})
     attrs = {"salkit_kind": "sweep", "salkit_version": __version__, "scenario": dump_scenario(parse_scenario(plan.base)),
              "sweep": json.dumps(plan.definition()), "points": plan.n_points, "points_invalid": len(invalid),
@@ -358,7 +363,7 @@ def measured_metrics(ds: xr.Dataset) -> list[str]:
     list of str
     """
     theories = {theory_name(n) for n in ds.data_vars}
-    return [n for n in ds.data_vars if n not in ("status", "run_seconds") and n not in theories
+    return [n for n in ds.data_vars if n not in ("status", "run_seconds", "unmeasured") and n not in theories
             and "_theory" not in n]
 
 
@@ -375,7 +380,7 @@ def table(ds: xr.Dataset) -> str:
     """
     axes = json.loads(ds.attrs["sweep"])["axes"]
     fields = [a["field"] for a in axes]
-    names = [n for n in ds.data_vars if n not in ("status", "run_seconds")]
+    names = [n for n in ds.data_vars if n not in ("status", "run_seconds", "unmeasured")]
     med = {n: ds[n].median("realisation", skipna=True) for n in names}
     lines = [",".join(fields + ["status"] + names)]
     st = ds["status"]

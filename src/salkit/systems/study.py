@@ -12,6 +12,7 @@ import tempfile
 import time
 from typing import Callable, Optional
 
+import numpy as np
 import xarray as xr
 
 from ..errors import SalkitError
@@ -48,6 +49,13 @@ def run_point(data: dict, metrics=(), keep_images: bool = False) -> dict:
         with tempfile.TemporaryDirectory(prefix="salkit-sweep-") as tmp:
             result = run_workflow(sc, tmp)
         rec = {"status": "ok", "metrics": select_metrics(result.metrics, metrics), "seconds": time.perf_counter() - t0}
+        why = dict((result.figures or {}).get("details", {}).get("_unmeasured", {}))
+        for name in metrics:  # a metric asked for that the run has no number for: say why
+            v = rec["metrics"].get(name)
+            if v is None or not np.isfinite(v):
+                why.setdefault(name, "this run measures no such figure" if v is None else "not measured (NaN)")
+        if why:
+            rec["unmeasured"] = why
         if keep_images:
             rec["images"] = {k: v for k, v in result.datasets.items() if k.startswith("image")}
         return rec
