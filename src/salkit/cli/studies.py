@@ -50,5 +50,6 @@ def sweep(scenario: Path = typer.Argument(..., metavar="SCENARIO.yaml", help="ba
             m = run_sweep(sc, plan, invalid, tmp, workers=workers, scheduler=scheduler, progress=bar,
                           command=_command_line(), keep_images=keep_images, name=request.name,
                           description=request.description or None)
-    out.print(f"{m['sweep_points_ok']} of {m['sweep_points']} points x {m['sweep_realisations']} realisations in "
+    n = m["sweep_realisations"]
+    out.print(f"{m['sweep_points_ok']} of {m['sweep_points']} points x {n} realisation{'s' if n != 1 else ''} in "
               f"{m['sweep_seconds']:.1f} s; report: {Path(out_dir) / 'report.html'}", highlight=False)

@@ -12,6 +12,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..signals.windows import window
+from ..tolerances import GRID_SPACING_OF_RESOLUTION
 
 SIDELOBE_SPAN = 10.0  # resolution cells either side counted in PSLR/ISLR
 
@@ -215,9 +216,9 @@ def analyse_point(image: np.ndarray, az: np.ndarray, rg: np.ndarray, res_az: flo
     for ax, m, res in (("azimuth", m_az, res_az), ("range", m_rg, res_rg)):
         step = dx if ax == "azimuth" else dy
         reason = None
-        if step > res * (1 + 1e-6):
+        if step > res * GRID_SPACING_OF_RESOLUTION:  # the sampling check's own limit
             reason = (f"the {100 * step:.3g} cm pixel undersamples the {100 * res:.3g} cm {ax} resolution "
-                      "(a pixel must be at most the resolution)")
+                      f"(a pixel must be at most {GRID_SPACING_OF_RESOLUTION:g} x the resolution)")
         elif not np.isfinite(m["irw"]):
             reason = (f"the response's half-power points fall outside the +-{1.5 * SIDELOBE_SPAN:g} cells analysed "
                       "(a target at the image's edge, or no point target there)")

@@ -211,15 +211,16 @@ def headline(metrics: dict) -> list[dict]:
     m, items = metrics, []
     if "sweep_points" in m:  # a design study: how many points ran, each metric's worst point against theory
         n_real = m["sweep_realisations"]
+        reals = f"{n_real} realisation{'s' if n_real != 1 else ''}"
         items.append({"label": "points run", "measured": f"{m['sweep_points_ok']} of {m['sweep_points']}",
-                      "reference": f"x {n_real} realisations", "delta": "",
+                      "reference": f"x {reals}", "delta": "",
                       "ok": m["sweep_points_ok"] == m["sweep_points"] - m.get("sweep_points_invalid", 0)})
         for k in sorted(k for k in m if k.endswith("_over_theory_max_deviation")):
             name = k[: -len("_over_theory_max_deviation")]
             stat = m.get(f"{name}_theory_statistic", "median")
             rule = SWEEP_RULES.get(next((p for p in SWEEP_RULES if name.startswith(p)), ""), None)
             item = {"label": f"{name}, worst point", "measured": f"{100 * m[k]:.2f} % from theory",
-                    "reference": f"{stat} of {n_real} realisations against theory's {stat}", "delta": ""}
+                    "reference": f"{stat} of {reals} against theory's {stat}", "delta": ""}
             se = m.get(f"{name}_over_theory_max_deviation_se")
             if stat == "mean" and se is not None and n_real > 1:  # a Monte Carlo mean: within 3 standard errors
                 item["delta"] = f"3 s.e. {300 * se:.1f} %"
@@ -236,7 +237,7 @@ def headline(metrics: dict) -> list[dict]:
             name = k[: -len("_minus_theory_max_db")]
             tolerance = tol.PSLR_DB if name.startswith("pslr") else (tol.ISLR_DB if name.startswith("islr") else None)
             item = {"label": f"{name}, worst point", "measured": f"{m[k]:.2f} dB from theory",
-                    "reference": f"median of {n_real} realisations against theory", "delta": ""}
+                    "reference": f"median of {reals} against theory", "delta": ""}
             if tolerance is None:
                 item["ok"], item["why"] = None, "no tolerance is set for this figure in a sweep"
             elif m.get("sweep_perturbed"):
