@@ -114,6 +114,10 @@ def test_a_metric_a_point_cannot_measure_is_recorded_with_its_reason():
     ds = execute(plan, {}, _half_measured)
     assert list(ds["unmeasured"].values) == ["", "irw_range_m: the response's half-power points fall outside the "
                                                  "cells analysed"]
+    from salkit.studies.engine import assemble
+    rec = {"status": "ok", "metrics": {}, "unmeasured": {"irw_range_m": "why", "pslr_range_db": "why", "x_m": "other"}}
+    grouped = assemble(plan, {}, {(0, 0): rec, (1, 0): rec})["unmeasured"].values[0]
+    assert grouped == "irw_range_m, pslr_range_db: why; x_m: other"  # one reason, said once
     assert np.isnan(ds["irw_range_m"].values[1, 0]) and list(ds["status"].values) == ["ok", "ok"]
 
 

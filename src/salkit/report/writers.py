@@ -215,13 +215,16 @@ def write_sweep(result: RunResult, out: Path, page: dict | None = None) -> None:
     status = ds["status"].values.ravel()
     problems = sorted({s for s in status if s != "ok"})
     unmeasured = []
-    if "unmeasured" in ds:
-        um = ds["unmeasured"]
+    if "unmeasured" in ds:  # one line per reason, with the points it holds at
+        um, points = ds["unmeasured"], {}
         for idx in np.ndindex(um.shape):
             if str(um.values[idx]):
                 where = ", ".join(f"{d} = {ds[d].values[i]:g}" if np.issubdtype(ds[d].dtype, np.number)
                                   else f"{d} = {ds[d].values[i]}" for d, i in zip(um.dims, idx))
-                unmeasured.append(f"{where}: {um.values[idx]}")
+                points.setdefault(str(um.values[idx]), []).append(where)
+        for why, at in points.items():
+            more = f" and {len(at) - 3} more" if len(at) > 3 else ""
+            unmeasured.append(f"{why} (at {len(at)} point{'s' if len(at) > 1 else ''}: {'; '.join(at[:3])}{more})")
     lines = result.tables["sweep.csv"].splitlines()
     header, rows = lines[0].split(","), [ln.split(",") for ln in lines[1:SWEEP_TABLE_ROWS + 1]]
     render(out, "sweep.html", result, page, axes=axes, zipped=sweep["zip"], realisations=sweep["realisations"],

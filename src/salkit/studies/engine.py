@@ -265,7 +265,10 @@ def assemble(plan: SweepPlan, invalid: dict, records: dict) -> xr.Dataset:
                 status[idx] = rec["status"]
             seconds[idx + (r,)] = rec.get("seconds", np.nan)
             if rec.get("unmeasured") and not unmeasured[idx]:
-                unmeasured[idx] = "; ".join(f"{k}: {v}" for k, v in sorted(rec["unmeasured"].items()))
+                by_reason: dict = {}
+                for k, v in sorted(rec["unmeasured"].items()):
+                    by_reason.setdefault(v, []).append(k)
+                unmeasured[idx] = "; ".join(f"{', '.join(ks)}: {why}" for why, ks in by_reason.items())
             for k, v in rec["metrics"].items():
                 data[k][idx + (r,)] = v
     if plan.zipped:
