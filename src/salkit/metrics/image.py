@@ -21,8 +21,11 @@ def _pieces(image, rows: int | None = None):
             yield a + c, b, blk[c:c + sub]
 
 
-def brightest_pixel(image, rows: int | None = None) -> tuple[int, int]:
-    """Indices of the brightest pixel, found a block of rows at a time (bounded memory).
+def scan(image, rows: int | None = None) -> tuple[tuple[int, int], dict]:
+    """One pass over an image, a block at a time (bounded memory; an image opened lazily is read
+    once, a chunk at a time): the brightest pixel and the intensity moments of p = |I|^2 (``n``
+    pixels, ``s1`` sum p, ``s2`` sum p^2, ``slog`` sum p ln p over p > 0), from which
+    :func:`entropy_from_moments` and :func:`contrast_from_moments` follow.
 
     Parameters
     ----------
@@ -33,26 +36,47 @@ def brightest_pixel(image, rows: int | None = None) -> tuple[int, int]:
 
     Returns
     -------
-    (int, int)
+    ((int, int), dict)
+        Indices of the brightest pixel, and the moments.
 
     Examples
     --------
-    >>> brightest_pixel(np.array([[1, 2], [5j, 0]]))
+    >>> scan(np.array([[1, 2], [5j, 0]]))[0]
     (1, 0)
     """
     best, at = -1.0, (0, 0)
+    n, s1, s2, slog = 0, 0.0, 0.0, 0.0
     for a, b, blk in _pieces(image, rows):
-        mag = np.abs(blk)
-        k = int(np.argmax(mag))
-        if mag.flat[k] > best:
-            best, at = float(mag.flat[k]), (a + k // blk.shape[1], b + k % blk.shape[1])
-    return at
+        p = np.abs(blk).astype(np.float64) ** 2
+        k = int(np.argmax(p))
+        if p.flat[k] > best:
+            best, at = float(p.flat[k]), (a + k // blk.shape[1], b + k % blk.shape[1])
+        n += p.size
+        s1 += float(p.sum())
+        s2 += float(np.square(p).sum())
+        q = p[p > 0]
+        slog += float((q * np.log(q)).sum())
+    return at, {"n": n, "s1": s1, "s2": s2, "slog": slog}
+
+
+def brightest_pixel(image, rows: int | None = None) -> tuple[int, int]:
+    """Indices of the brightest pixel (:func:`scan`).
+
+    Parameters
+    ----------
+    image : complex array-like (nx, ny)
+    rows : int, optional
+
+    Returns
+    -------
+    (int, int)
+    """
+    return scan(image, rows)[0]
 
 
 def intensity_moments(image, rows: int | None = None) -> dict:
-    """Sums over the image's intensity p = |I|^2, a block of rows at a time: ``n`` pixels, ``s1`` sum p,
-    ``s2`` sum p^2, ``slog`` sum p ln p (p > 0). :func:`entropy` and :func:`contrast` follow from them, so
-    an image written tile by tile is measured in one pass, equal to the in-memory figures to rounding.
+    """Sums over the image's intensity p = |I|^2 (:func:`scan`): an image written tile by tile is
+    measured in one pass, equal to the in-memory figures to rounding.
 
     Parameters
     ----------
@@ -63,15 +87,7 @@ def intensity_moments(image, rows: int | None = None) -> dict:
     -------
     dict
     """
-    n, s1, s2, slog = 0, 0.0, 0.0, 0.0
-    for _, _, blk in _pieces(image, rows):
-        p = np.abs(blk).astype(np.float64) ** 2
-        n += p.size
-        s1 += float(p.sum())
-        s2 += float(np.square(p).sum())
-        q = p[p > 0]
-        slog += float((q * np.log(q)).sum())
-    return {"n": n, "s1": s1, "s2": s2, "slog": slog}
+    return scan(image, rows)[1]
 
 
 def entropy_from_moments(mom: dict) -> float:

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from .image import brightest_pixel, contrast_from_moments, entropy_from_moments, intensity_moments
+from .image import contrast_from_moments, entropy_from_moments, scan
 from .pointtarget import analyse_point
 from ..signals.phase import wrap
 from ..constants import SPEED_OF_LIGHT
@@ -84,7 +84,8 @@ def measure(image: xr.Dataset, truth: np.ndarray | None = None, reflectivity_pha
     res_az = float(at.get("resolution_azimuth", 2 * (az[1] - az[0])))
     res_rg = float(at.get("resolution_range", 2 * (rg[1] - rg[0])))
     phase_fn = image_phase_model(image)
-    m = analyse_point(img, az, rg, res_az, res_rg, peak=brightest_pixel(img), phase_fn=phase_fn)
+    peak, own = scan(img)  # the brightest pixel and the intensity moments, in one pass
+    m = analyse_point(img, az, rg, res_az, res_rg, peak=peak, phase_fn=phase_fn)
     out = {k: v for k, v in m.items() if details or not k.startswith("_")}
     if truth is None and "target_azimuth" in image:
         truth = np.stack([image["target_azimuth"].values, image["target_range"].values], axis=1)
@@ -117,7 +118,7 @@ def measure(image: xr.Dataset, truth: np.ndarray | None = None, reflectivity_pha
             out[f"pslr_{ax}_theory_db"] = float(at["pslr_theory"])
             out[f"islr_{ax}_theory_db"] = float(at["islr_theory"])
         out[f"resolution_{ax}_theory_m"] = float(at.get(f"resolution_{ax}", float("nan")))
-    mom = moments if moments is not None else intensity_moments(img)
+    mom = moments if moments is not None else own
     out["entropy"] = entropy_from_moments(mom)
     out["contrast"] = contrast_from_moments(mom)
     return out

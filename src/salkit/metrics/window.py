@@ -2,11 +2,10 @@
 the brightest pixel, and the whole image's intensity moments, found in one pass a block at a time."""
 from __future__ import annotations
 
-import numpy as np
 import xarray as xr
 
 from ..io.datasets import lazy_reads
-from .image import _pieces
+from .image import scan
 from .pointtarget import analysis_extent
 
 
@@ -35,18 +34,7 @@ def brightest_window(image: xr.Dataset, rows: int | None = None) -> tuple[xr.Dat
     """
     v = image["image"]
     nx, ny = v.shape
-    best, at = -1.0, (0, 0)
-    n, s1, s2, slog = 0, 0.0, 0.0, 0.0
-    for a, b, blk in _pieces(v, rows):
-        p = np.abs(blk).astype(np.float64) ** 2
-        k = int(np.argmax(p))
-        if p.flat[k] > best:
-            best, at = float(p.flat[k]), (a + k // blk.shape[1], b + k % blk.shape[1])
-        n += p.size
-        s1 += float(p.sum())
-        s2 += float(np.square(p).sum())
-        q = p[p > 0]
-        slog += float((q * np.log(q)).sum())
+    at, moments = scan(v, rows)
     az, rg = image["azimuth"].values, image["range"].values
     at_ = image.attrs
     dx = float(az[1] - az[0]) if nx > 1 else 1.0
@@ -59,4 +47,4 @@ def brightest_window(image: xr.Dataset, rows: int | None = None) -> tuple[xr.Dat
     sub = sub.drop_vars([m for m in ("collection_position", "collection_time") if m in sub])
     with lazy_reads("image", v.encoding.get("source") or image.encoding.get("source")):
         sub = sub.load()
-    return sub, {"n": n, "s1": s1, "s2": s2, "slog": slog}
+    return sub, moments
