@@ -29,7 +29,8 @@ def form_bp(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int 
     window : Window
         Over the pulses (spotlight) or the Doppler band (stripmap), and in range.
     upsample : int
-        Range-profile upsampling before nearest-sample lookup.
+        Range-profile upsampling before the kernel's linear interpolation of the profiles (its
+        error compensated, :mod:`salkit.focus.backprojection`).
     accuracy : {"standard", "high"}
         Not used: ``bp`` takes its accuracy from ``upsample`` (the caller passes 32 for "high").
     progress : callable, optional

@@ -7,8 +7,9 @@ Every former is a function::
 
 whose image is normalised so that a unit-reflectance point at the beam centre peaks near 1
 (the window's coherent gain divided out). A new algorithm is one file in ``salkit/focus`` with
-``@register_former("name")`` on its former, its module imported in ``salkit/focus/__init__.py``,
-and its name in :data:`salkit.choices.ALGORITHMS` (a test checks the two lists agree).
+``@register_former("name")`` on its former, its module imported in ``salkit/focus/pipeline.py``
+(where the formers register), and its name in :data:`salkit.choices.ALGORITHMS` (a test checks the
+two lists agree).
 """
 from __future__ import annotations
 
