@@ -50,3 +50,25 @@ def test_refused_without_a_reference_or_off_the_ground(tmp_path):
     with pytest.raises(DataFileError, match="--plane ground"):
         write_geotiff(slant, tmp_path / "b.tif")
     assert not list(tmp_path.iterdir())
+
+
+def test_export_places_an_image_formed_without_origin_when_given_one(tmp_path):
+    """``salkit export image.nc x.tif --origin ...`` geolocates an image formed without a reference
+    (through ``geolocate_image``), the same as forming it with that origin."""
+    from typer.testing import CliRunner
+
+    from salkit.cli.main import app
+    from salkit.io import write_dataset
+    img = _image()
+    write_dataset(img, tmp_path / "image.nc")
+    r = CliRunner().invoke(app, ["export", str(tmp_path / "image.nc"), str(tmp_path / "x.tif")])
+    assert r.exit_code == 2 and "--origin" in r.output and not (tmp_path / "x.tif").exists()
+    r = CliRunner().invoke(app, ["export", str(tmp_path / "image.nc"), str(tmp_path / "x.tif"),
+                                 "--origin", "45.0,7.0,100"])
+    assert r.exit_code == 0, r.output
+    ref = _image(scene__origin=[45.0, 7.0, 100.0])
+    with rasterio.open(tmp_path / "x.tif") as src:
+        back = Transformer.from_crs(src.crs, "EPSG:4326", always_xy=True)
+        lon, lat = back.transform(*(src.transform @ (0.5, 0.5)))
+    assert abs(lat - ref.attrs["corner_latitude"][0]) * 111e3 < 1e-6
+    assert abs(lon - ref.attrs["corner_longitude"][0]) * 111e3 < 1e-6

@@ -124,12 +124,8 @@ def export(image: Path = typer.Argument(..., metavar="IMAGE.nc", help="salkit im
 
 def _export_geotiff(src: Path, dst: Path, origin: Optional[str]) -> None:
     """The detected image as a COG; an --origin given here places it (and wins over the image's)."""
-    import types
-
-    import numpy as np
-
     from ..errors import ScenarioError
-    from ..geometry.geodesy import image_geolocation
+    from ..geometry.geodesy import geolocate_image
     from ..io import read_image
     from ..io.geotiff import write_geotiff
     img = read_image(src)
@@ -137,11 +133,7 @@ def _export_geotiff(src: Path, dst: Path, origin: Optional[str]) -> None:
     if llh is None and "origin_llh" not in img.attrs:
         raise ScenarioError("--origin", None, NO_ORIGIN)
     if llh is not None:
-        a = img.attrs
-        plane = types.SimpleNamespace(origin=np.asarray(a["plane_origin"], float),
-                                      azimuth=np.asarray(a["azimuth_axis"], float), range=np.asarray(a["range_axis"], float))
-        img.attrs.update(origin_llh=np.asarray(llh, float),
-                         **image_geolocation(llh, plane, img["azimuth"].values, img["range"].values))
+        img.attrs.update(geolocate_image(img, llh))
     info = write_geotiff(img, dst)
     out.print(f"wrote {dst} (Cloud-Optimised GeoTIFF of |image|; corners within {info['misfit_pixels']:.2g} pixel "
               "of the affine map)", highlight=False)

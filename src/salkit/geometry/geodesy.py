@@ -8,6 +8,8 @@ from functools import lru_cache
 import numpy as np
 from pyproj import Transformer
 
+from .collection import ImagePlane
+
 
 @lru_cache(maxsize=2)
 def _transformer(to_ecef: bool) -> Transformer:
@@ -64,6 +66,28 @@ def enu_to_geodetic(enu, origin_llh) -> tuple[np.ndarray, np.ndarray, np.ndarray
     ecef = o + p[..., 0:1] * east + p[..., 1:2] * north + p[..., 2:3] * up
     lo, la, h = _transformer(False).transform(ecef[..., 0], ecef[..., 1], ecef[..., 2])
     return np.asarray(la, np.float64), np.asarray(lo, np.float64), np.asarray(h, np.float64)
+
+
+def geolocate_image(image, origin_llh) -> dict:
+    """:func:`image_geolocation` of a salkit image from its own attributes (``plane_origin``,
+    ``azimuth_axis``, ``range_axis``) and coordinates, for an origin given after it was formed.
+
+    Parameters
+    ----------
+    image : xarray.Dataset
+        A salkit image.
+    origin_llh : (lat deg, lon deg, height m)
+
+    Returns
+    -------
+    dict
+        ``origin_llh`` and the corner and centre positions of :func:`image_geolocation`.
+    """
+    a = image.attrs
+    plane = ImagePlane(np.asarray(a["plane_origin"], np.float64), np.asarray(a["azimuth_axis"], np.float64),
+                       np.asarray(a["range_axis"], np.float64))
+    return {"origin_llh": check_origin(origin_llh),
+            **image_geolocation(origin_llh, plane, image["azimuth"].values, image["range"].values)}
 
 
 def image_geolocation(origin_llh, plane, azimuth, rng) -> dict:
