@@ -1,12 +1,11 @@
 """The allowed choices, named once: the scenario models, the command line, the algorithms and the
-tests all read them from here."""
+tests all read them from here. What is declared rather than listed (image formers, metrics, scene
+object kinds, materials) is in :mod:`salkit.registry`."""
 from .errors import ScenarioError
 
-#: Image formers: backprojection, polar format, omega-k, fast factorised backprojection, the exact
-#: float64 matched filter (the truth, small grids).
-ALGORITHMS = ("bp", "pfa", "omegak", "ffbp", "exact")
-#: Image-formation accuracy: standard (bp -64 to -69 dB, ffbp -56.5 to -61 dB against the exact matched
-#: filter) or high, for interferometry (bp -75.5 to -78.5 dB, ffbp -64 to -73 dB).
+#: Image-formation accuracy: standard or high (for interferometry); what each level promises against
+#: the exact matched filter, each former declares (:class:`salkit.focus.formers.FormerSpec`). The image
+#: formers themselves are declared, not listed: :data:`salkit.registry.FORMERS`.
 ACCURACY = ("standard", "high")
 #: How the space-borne experiment stacks its sub-images.
 STACK_MODES = ("incoherent", "coherent")

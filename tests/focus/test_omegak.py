@@ -20,5 +20,5 @@ def test_omegak_matches_backprojection_on_stripmap():
 
 def test_omegak_refuses_spotlight():
     sc = parse_scenario(SPOT)
-    with pytest.raises(ScenarioError, match="omega-k needs stripmap"):
+    with pytest.raises(ScenarioError, match="omegak forms stripmap collections on a straight track"):
         focus(simulate(sc), sc.processing, algorithm="omegak")

@@ -48,10 +48,10 @@ def test_grid_coarser_than_resolution():
 
 def test_algorithm_mode_mismatch():
     sc = parse_scenario(merge(SPOT, processing={"algorithm": "omegak", "grid": SPOT["processing"]["grid"]}))
-    with pytest.raises(ScenarioError, match="omega-k needs stripmap"):
+    with pytest.raises(ScenarioError, match="omegak forms stripmap collections on a straight track"):
         check_sampling(sc)
     sc = parse_scenario(merge(STRIP, processing={"algorithm": "pfa", "grid": STRIP["processing"]["grid"]}))
-    with pytest.raises(ScenarioError, match="polar format"):
+    with pytest.raises(ScenarioError, match="pfa forms spotlight collections; this one is stripmap: use bp"):
         check_sampling(sc)
 
 

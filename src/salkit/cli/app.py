@@ -8,6 +8,7 @@ import logging
 from typing import Optional
 
 import typer
+import typer.core
 from rich.console import Console
 from rich.markup import escape as rich_escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
@@ -34,6 +35,31 @@ def _plain_argument_help() -> None:
 
 
 _plain_argument_help()
+
+
+#: Placeholders an option's help may hold, filled from the declarations when the help is shown
+#: (so that ``salkit`` itself starts without loading the library).
+def _formers_help() -> str:
+    from ..focus.formers import former_help
+    return former_help()
+
+
+DECLARED_HELP = {"{formers}": _formers_help}
+
+
+class DeclaredHelpCommand(typer.core.TyperCommand):
+    """A command whose options' help may name what is declared (``{formers}``: the image formers
+    and what each is), read from the registries when ``--help`` is shown."""
+
+    def format_help(self, ctx, formatter):
+        for p in self.params:
+            text = getattr(p, "help", None)
+            if text:
+                for key, fill in DECLARED_HELP.items():
+                    if key in text:
+                        text = text.replace(key, fill())
+                p.help = text
+        return super().format_help(ctx, formatter)
 
 _STATE = {"debug": False}
 

@@ -16,8 +16,8 @@ from .options import (NO_ORIGIN, _check_out_file, _export_sicd, _grid, _origin, 
 @_guard
 def focus(raw: Path = typer.Argument(..., metavar="RAW", help="raw or phase-history file: .nc, .cphd or GOTCHA .mat"),
           out_dir: Path = typer.Option(..., "--out", metavar="DIR", help="output folder (complete or absent after the run)"),
-          algorithm: Optional[str] = typer.Option(None, metavar="NAME", help="bp | pfa | omegak | ffbp (fast factorised backprojection, spotlight) | exact (float64 matched filter, the truth; small grids)"),
-          accuracy: Optional[str] = typer.Option(None, metavar="LEVEL", help="standard | high (interferometric: bp -75.5 to -78.5 dB, ffbp -64 to -73 dB against the exact matched filter)"),
+          algorithm: Optional[str] = typer.Option(None, metavar="NAME", help="the image former: {formers}"),
+          accuracy: Optional[str] = typer.Option(None, metavar="LEVEL", help="standard | high (for interferometry): what each former promises at each, against the exact matched filter, is in the README's table of formers"),
           window: Optional[str] = typer.Option(None, metavar="NAME", help="amplitude window: none | hamming | taylor"),
           nx: Optional[int] = typer.Option(None, metavar="PIXELS", help="grid size along azimuth, pixels (with --ny, --dx, --dy)"),
           ny: Optional[int] = typer.Option(None, metavar="PIXELS", help="grid size along range, pixels"),
@@ -33,12 +33,15 @@ def focus(raw: Path = typer.Argument(..., metavar="RAW", help="raw or phase-hist
           scheduler: Optional[str] = typer.Option(None, metavar="ADDRESS", help="form the tiles on an existing Dask cluster, e.g. tcp://host:8786 (each worker reads the .nc itself: a path they can all reach)"),
           overwrite: bool = typer.Option(False, "--overwrite", help="replace a non-empty --out once the new run is complete")):
     """Focus a raw file (.nc, .cphd or GOTCHA .mat) into image.nc, metrics.json, figures and report.html."""
-    from ..choices import ACCURACY, ALGORITHMS, AUTOFOCUS_METHODS, PGA_KERNELS, PLANES, WINDOWS, check_choice
+    from ..choices import ACCURACY, AUTOFOCUS_METHODS, PGA_KERNELS, PLANES, WINDOWS, check_choice
     from ..errors import ScenarioError
     from ..params.models import StackSettings
     from ..report import write_run
     from ..systems.airborne import focus_file
-    for opt, v, allowed in (("--algorithm", algorithm, ALGORITHMS), ("--accuracy", accuracy, ACCURACY),
+    from ..registry import FORMERS
+    if algorithm is not None:
+        FORMERS.check(algorithm, "--algorithm")
+    for opt, v, allowed in (("--accuracy", accuracy, ACCURACY),
                             ("--window", window, WINDOWS),
                             ("--autofocus", autofocus, AUTOFOCUS_METHODS), ("--kernel", kernel, PGA_KERNELS),
                             ("--plane", plane, PLANES)):

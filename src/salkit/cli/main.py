@@ -14,14 +14,14 @@ import os
 import sys
 
 from . import data, inspection, runs, studies, turbulence
-from .app import _STATE, _Bar, app, show_warning  # noqa: F401  (the application and what the demo uses)
+from .app import _STATE, DeclaredHelpCommand, _Bar, app, show_warning  # noqa: F401  (the application and what the demo uses)
 from .options import _examples_dir, print_headline  # noqa: F401
 
 #: The commands, in the order ``salkit --help`` lists them.
 COMMANDS = (runs.run, runs.simulate, data.focus, data.export, data.convert, turbulence.screen, turbulence.propagate,
             studies.sweep, inspection.info, inspection.verify, inspection.examples)
 for _command in COMMANDS:
-    app.command()(_command)
+    app.command(cls=DeclaredHelpCommand)(_command)
 
 
 def _on_signal(signum, frame):  # pragma: no cover - exercised by subprocess tests

@@ -15,7 +15,7 @@ from .options import _check_out_file, _preflight, _summary, apply_memory_limit
 def run(scenario: Path = typer.Argument(..., metavar="SCENARIO.yaml", help="scenario file (salkit examples lists the shipped ones)"),
         out_dir: Path = typer.Option(..., "--out", metavar="DIR", help="output folder (complete or absent after the run)"),
         set_: List[str] = typer.Option([], "--set", metavar="KEY=VALUE", help="override a field in its SI unit, e.g. waveform.prf=2000 (Hz); repeatable"),
-        algorithm: Optional[str] = typer.Option(None, metavar="NAME", help="override processing.algorithm: bp | pfa | omegak | ffbp | exact"),
+        algorithm: Optional[str] = typer.Option(None, metavar="NAME", help="override processing.algorithm: {formers}"),
         workers: Optional[int] = typer.Option(None, metavar="N", help="Dask worker processes of a local cluster (stacking runs; default: one per core)"),
         scheduler: Optional[str] = typer.Option(None, metavar="ADDRESS", help="address of an existing Dask scheduler, e.g. tcp://host:8786"),
         overwrite: bool = typer.Option(False, "--overwrite", help="replace a non-empty --out once the new run is complete"),

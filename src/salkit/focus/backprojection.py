@@ -1,7 +1,10 @@
-"""Time-domain backprojection for any trajectory (numba, parallel).
+"""The backprojection kernel (numba, parallel), for any trajectory: the ``bp`` former
+(:mod:`salkit.focus.bp`) and its variants call it.
 
 For each pulse the phase history P(f) is turned into an upsampled range profile; each pixel at
-differential range dR = |x - p| - R_ref adds profile(dR) * exp(+j 4 pi f_c dR / c).
+differential range dR = |x - p| - R_ref adds profile(dR) * exp(+j 4 pi f_c dR / c), the profile
+read between its bins by the interpolation named (:data:`INTERPOLATIONS`: linear, nearest, Keys
+cubic), whose mean response is divided out of the spectrum first.
 
 Precision: |x - p| is computed in float64 from the plane geometry (|x - p|^2 = A + g (B + g) for
 pixels x = o + g r along a range line), differenced against the float64 reference range, and
@@ -21,22 +24,22 @@ from ..geometry.ranges import range_offsets
 from ..signals.phase import sincos_cycles
 from ..constants import FFT_WORKERS, SPEED_OF_LIGHT
 from ..tolerances import BP_UPSAMPLE
+from .profiles import interpolation_of, pack_profiles, range_profiles
 
 WORKERS = FFT_WORKERS
 
 
-_sincos_cycles = sincos_cycles  # shared with ffbp and pfa (salkit.signals.phase)
-
 
 @njit(cache=True, fastmath=True, error_model="numpy", boundscheck=False)
-def _bp_row(pk, r0, inv_dr, hi, A, B, C, refp, rg, cyc_per_m, w, out_re, out_im, idx, frs, ss, cs):
+def _bp_row(pk, r0, inv_dr, hi, A, B, C, refp, rg, cyc_per_m, w, out_re, out_im, idx, frs, ss, cs, mode):
     """One pulse into one range line, in two passes so the first one vectorises.
 
     Pass 1 (SIMD): float64 range |x - p| from the line's quadratic, difference against the float64
     reference, at long range corrected by the exact R^2 - R_ref^2 = C + g (B + g) (a range's
     rounding, 6e-11 m at 560 km, would otherwise reach the phase), profile index and fraction,
     phase reduced to [-0.5, 0.5) cycles in float64 and handed to the float32 sin/cos polynomial. Pass 2: gather the packed profile bin
-    (re, im, d_re, d_im), interpolate linearly, rotate and accumulate.
+    (re, im, d_re, d_im), interpolate (``mode``: :data:`INTERPOLATIONS`' codes; 0 linear, 1 nearest,
+    2 Keys cubic), rotate and accumulate.
     """
     ny = rg.shape[0]
     h = 0.5 / refp
@@ -57,7 +60,7 @@ def _bp_row(pk, r0, inv_dr, hi, A, B, C, refp, rg, cyc_per_m, w, out_re, out_im,
             frs[j] = np.float32(x - i0)
             cyc = dR * cyc_per_m
             y = np.float32(cyc - np.floor(cyc + 0.5))  # in [-0.5, 0.5), reduced in float64 (vectorises)
-            s, c = _sincos_cycles(y)
+            s, c = sincos_cycles(y)
             ss[j] = s * valid * w
             cs[j] = c * valid * w
     else:
@@ -72,18 +75,47 @@ def _bp_row(pk, r0, inv_dr, hi, A, B, C, refp, rg, cyc_per_m, w, out_re, out_im,
             frs[j] = np.float32(x - i0)
             cyc = dR * cyc_per_m
             y = np.float32(cyc - np.floor(cyc + 0.5))
-            s, c = _sincos_cycles(y)
+            s, c = sincos_cycles(y)
             ss[j] = s * valid * w
             cs[j] = c * valid * w
-    for j in range(ny):
-        i0 = idx[j]
-        f = frs[j]
-        vr = pk[i0, 0] + f * pk[i0, 2]
-        vi = pk[i0, 1] + f * pk[i0, 3]
-        s = ss[j]
-        c = cs[j]
-        out_re[j] += vr * c - vi * s
-        out_im[j] += vr * s + vi * c
+    if mode == 0:  # linear: the packed forward difference
+        for j in range(ny):
+            i0 = idx[j]
+            f = frs[j]
+            vr = pk[i0, 0] + f * pk[i0, 2]
+            vi = pk[i0, 1] + f * pk[i0, 3]
+            s = ss[j]
+            c = cs[j]
+            out_re[j] += vr * c - vi * s
+            out_im[j] += vr * s + vi * c
+    elif mode == 1:  # nearest bin
+        for j in range(ny):
+            i0 = idx[j] + np.int32(frs[j] >= 0.5)
+            vr = pk[i0, 0]
+            vi = pk[i0, 1]
+            s = ss[j]
+            c = cs[j]
+            out_re[j] += vr * c - vi * s
+            out_im[j] += vr * s + vi * c
+    else:  # Keys cubic convolution (a = -1/2), four bins
+        last = pk.shape[0] - 1
+        for j in range(ny):
+            i0 = idx[j]
+            t = frs[j]
+            t2 = t * t
+            t3 = t2 * t
+            wm = np.float32(-0.5) * t3 + t2 - np.float32(0.5) * t
+            w0 = np.float32(1.5) * t3 - np.float32(2.5) * t2 + np.float32(1.0)
+            w1 = np.float32(-1.5) * t3 + np.float32(2.0) * t2 + np.float32(0.5) * t
+            w2 = np.float32(0.5) * t3 - np.float32(0.5) * t2
+            im1 = max(i0 - 1, 0)
+            ip2 = min(i0 + 2, last)
+            vr = wm * pk[im1, 0] + w0 * pk[i0, 0] + w1 * pk[i0 + 1, 0] + w2 * pk[ip2, 0]
+            vi = wm * pk[im1, 1] + w0 * pk[i0, 1] + w1 * pk[i0 + 1, 1] + w2 * pk[ip2, 1]
+            s = ss[j]
+            c = cs[j]
+            out_re[j] += vr * c - vi * s
+            out_im[j] += vr * s + vi * c
 
 
 #: Image rows a thread takes together: each pulse's profile is read for all of them in turn, so it
@@ -92,7 +124,7 @@ ROW_TILE = 8
 
 
 @njit(parallel=True, nogil=True, cache=True, fastmath=True)
-def bp_kernel(packed, r0, inv_dr, pos, ref, D, row_origin, rdir, rg, cyc_per_m, weight, img_re, img_im):
+def bp_kernel(packed, r0, inv_dr, pos, ref, D, row_origin, rdir, rg, cyc_per_m, weight, img_re, img_im, mode=0):
     """Accumulate a block of pulses into the image, tiles of :data:`ROW_TILE` rows in parallel.
 
     Parameters
@@ -115,6 +147,8 @@ def bp_kernel(packed, r0, inv_dr, pos, ref, D, row_origin, rdir, rg, cyc_per_m, 
     weight : float32 (nx, P)
         Per-row, per-pulse weight (azimuth window, beam equalisation); 0 skips.
     img_re, img_im : float32 (nx, ny), accumulated in place.
+    mode : int
+        Interpolation of the profiles (:data:`INTERPOLATIONS`' codes).
     """
     nx = row_origin.shape[0]
     ny = rg.shape[0]
@@ -142,126 +176,7 @@ def bp_kernel(packed, r0, inv_dr, pos, ref, D, row_origin, rdir, rg, cyc_per_m, 
                 o2 = row_origin[i, 2]
                 C = D[p] + o0 * (o0 - 2.0 * pos[p, 0]) + o1 * (o1 - 2.0 * pos[p, 1]) + o2 * (o2 - 2.0 * pos[p, 2])
                 _bp_row(packed[p], r0, inv_dr, hi, A, B, C, ref[p], rg, cyc_per_m, np.float32(w),
-                        img_re[i], img_im[i], idx, frs, ss, cs)
-
-
-@njit(parallel=True, nogil=True, cache=True)
-def _pack_kernel(prof, out):
-    P, nb = prof.shape
-    for p in prange(P):
-        for b in range(nb - 1):
-            z = prof[p, b]
-            d = prof[p, b + 1] - z
-            out[p, b, 0] = z.real
-            out[p, b, 1] = z.imag
-            out[p, b, 2] = d.real
-            out[p, b, 3] = d.imag
-        z = prof[p, nb - 1]
-        out[p, nb - 1, 0] = z.real
-        out[p, nb - 1, 1] = z.imag
-        out[p, nb - 1, 2] = 0.0
-        out[p, nb - 1, 3] = 0.0
-
-
-def pack_profiles(prof: np.ndarray) -> np.ndarray:
-    """(P, Nb) complex -> (P, Nb, 4) float32 (re, im, forward differences).
-
-    Parameters
-    ----------
-    prof : complex64 (P, Nb)
-        Range profiles.
-
-    Returns
-    -------
-    float32 (P, Nb, 4)
-        Real part, imaginary part and their forward differences (0 at the last bin), for linear
-        interpolation.
-
-    Examples
-    --------
-    >>> pack_profiles(np.array([[1 + 2j, 3 + 1j]], np.complex64))[0].tolist()
-    [[1.0, 2.0, 2.0, -1.0], [3.0, 1.0, 0.0, 0.0]]
-    """
-    prof = np.ascontiguousarray(prof, np.complex64)
-    out = np.empty(prof.shape + (4,), np.float32)
-    _pack_kernel(prof, out)
-    return out
-
-
-def linear_interp_gain(m: np.ndarray, nfft: int) -> np.ndarray:
-    """Mean response of linear interpolation between profile bins to frequency offset ``m``
-    (samples from the reference frequency) in an ``nfft``-point profile: sinc^2(m / nfft).
-
-    Linear interpolation of exp(j 2 pi nu x) (nu in cycles per bin), averaged over the position
-    between two bins, multiplies it by sinc^2(nu); dividing the spectrum by it beforehand removes
-    that mean attenuation of the band's edges, the largest part of the interpolation error (its
-    remainder varies with the position: about 8 dB less error energy).
-
-    Parameters
-    ----------
-    m : int ndarray
-        Frequency sample offsets.
-    nfft : int
-        Profile length.
-
-    Returns
-    -------
-    float64 ndarray
-
-    Examples
-    --------
-    >>> float(linear_interp_gain(np.array([0]), 64)[0])
-    1.0
-    """
-    return np.sinc(np.asarray(m, np.float64) / nfft) ** 2
-
-
-def range_profiles(ph: np.ndarray, freq: np.ndarray, upsample: int, range_window: np.ndarray,
-                   linear_compensation: bool = False):
-    """Upsampled range profiles of a phase-history block.
-
-    Returns
-    -------
-    profiles : complex64 (P, Nfft)
-    r0 : float
-        Differential range of bin 0, m.
-    dr : float
-        Bin spacing, m.
-    f_c : float
-        Reference frequency (sample M//2), Hz.
-
-    Parameters
-    ----------
-    ph : complex (P, M)
-        Phase history.
-    freq : float64 (M,)
-        Frequencies, Hz, increasing and uniform.
-    upsample : int
-        FFT length over M.
-    range_window : float (M,)
-        Amplitude window over the frequencies.
-    linear_compensation : bool
-        Divide the spectrum by :func:`linear_interp_gain`, for profiles read by linear
-        interpolation.
-    """
-    P, M = ph.shape
-    df = float(freq[1] - freq[0])
-    nfft = sfft.next_fast_len(int(M * upsample))
-    h = M // 2
-    # sample m goes to bin k = (m - h) mod nfft; the ramp exp(-j 2 pi k s / nfft), s = nfft // 2,
-    # does the fftshift inside the transform (no scatter with an index array, no shifted copy)
-    k = (np.arange(M) - h) % nfft
-    wr = np.asarray(range_window, np.float64)
-    if linear_compensation:
-        wr = wr / linear_interp_gain(np.arange(M) - h, nfft)
-    ramp = (np.exp(-2j * np.pi * ((k * (nfft // 2)) % nfft) / nfft) * wr).astype(np.complex64)
-    buf = np.zeros((P, nfft), np.complex64)
-    np.multiply(ph[:, h:], ramp[h:], out=buf[:, :M - h])
-    np.multiply(ph[:, :h], ramp[:h], out=buf[:, nfft - h:])
-    prof = sfft.ifft(buf, axis=1, workers=WORKERS, norm="forward", overwrite_x=True)
-    dr = SPEED_OF_LIGHT / (2.0 * df * nfft)
-    r0 = -(nfft // 2) * dr
-    return prof.astype(np.complex64, copy=False), r0, dr, float(freq[M // 2])
+                        img_re[i], img_im[i], idx, frs, ss, cs, mode)
 
 
 #: Bytes of one kernel call's range profiles (the upsampled FFT buffer and its packed copy): long
@@ -298,7 +213,8 @@ def profile_block(n_samples: int, upsample: int, block: int = 32) -> int:
 def backproject(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.ndarray,
                 row_origin: np.ndarray, rdir: np.ndarray, rg: np.ndarray, weight: np.ndarray,
                 range_window: np.ndarray, upsample: int = BP_UPSAMPLE, block: int = 32,
-                progress=None, linear_compensation: bool = True, out=None) -> np.ndarray:
+                progress=None, linear_compensation: bool = True, out=None,
+                interpolation: str = "linear") -> np.ndarray:
     """Backproject a phase history onto a plane grid.
 
     Parameters
@@ -325,7 +241,7 @@ def backproject(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_ran
     block : int
         Pulses per kernel call, at most (:func:`profile_block` lowers it for long pulses).
     linear_compensation : bool
-        Pre-compensate the mean attenuation of linear interpolation (:func:`linear_interp_gain`).
+        Pre-compensate the interpolation's mean attenuation (:attr:`Interpolation.gain`).
     out : (float32 (nx, ny), float32 (nx, ny)), optional
         Accumulators (real, imaginary) to add into: pulse blocks backprojected one after another
         into the same accumulators give the whole collection's image, kernel call for kernel call
@@ -336,6 +252,7 @@ def backproject(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_ran
     complex (nx, ny), not normalised.
     """
     nx, ny = row_origin.shape[0], rg.size
+    mode = interpolation_of(interpolation).code
     block = profile_block(ph.shape[1], upsample, block)
     if out is None:
         img_re = np.zeros((nx, ny), np.float32)
@@ -349,12 +266,13 @@ def backproject(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_ran
     D = range_offsets(positions, ref_range)
     for a in range(0, P, block):
         b = min(P, a + block)
-        prof, r0, dr, f_c = range_profiles(ph[a:b], freq, upsample, range_window, linear_compensation)
+        prof, r0, dr, f_c = range_profiles(ph[a:b], freq, upsample, range_window, linear_compensation,
+                                           interpolation)
         cyc = 2.0 * f_c / SPEED_OF_LIGHT
         bp_kernel(pack_profiles(prof), r0, 1.0 / dr,
                   np.ascontiguousarray(positions[a:b], dtype=np.float64),
                   np.ascontiguousarray(ref_range[a:b], dtype=np.float64), D[a:b], row_origin, rdir, rg, cyc,
-                  np.ascontiguousarray(weight[:, a:b], dtype=np.float32), img_re, img_im)
+                  np.ascontiguousarray(weight[:, a:b], dtype=np.float32), img_re, img_im, mode)
         if progress is not None:
             progress(b, P)
     return img_re + 1j * img_im
@@ -383,7 +301,7 @@ def _contrib_kernel(packed, r0, inv_dr, pos, ref, pts, cyc_per_m, out):
             vi = pk[i0, 1] + f * pk[i0, 3]
             cyc = dR * cyc_per_m
             y = np.float32(cyc - np.floor(cyc + 0.5))
-            s, c = _sincos_cycles(y)
+            s, c = sincos_cycles(y)
             out[p, k] = complex(vr * c - vi * s, vr * s + vi * c)
 
 

@@ -24,7 +24,7 @@ from numba import get_num_threads, njit, prange
 from ..errors import ScenarioError
 from ..geometry.ranges import differential_range, range_offsets
 from ..signals.windows import Window
-from .formers import ImageGrid, ImageResult, register_former
+from .formers import Accuracy, ImageGrid, ImageResult, Sizes, register_former
 from .phasehistory import PhaseHistory
 from ..tolerances import BP_UPSAMPLE
 
@@ -187,10 +187,29 @@ def exact_image(data: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_r
     return (out_re + 1j * out_im) / norm
 
 
-@register_former("exact")
+def exact_memory(sizes: Sizes) -> float:
+    """Bytes the exact matched filter adds: its float64 accumulators (16 bytes a pixel).
+
+    Parameters
+    ----------
+    sizes : Sizes
+
+    Returns
+    -------
+    float
+    """
+    return 16.0 * sizes.nx * sizes.ny
+
+
+@register_former(
+    "exact", summary="the exact float64 matched filter, any trajectory (the truth; small grids)",
+    modes=("spotlight",), tracks="any", phase_reference="aperture_centre", tiles=False, tile_overlap=0, blocks=None,
+    memory=exact_memory,
+    accuracy={"standard": Accuracy("float64, nothing interpolated", None, "the truth the others are judged against"),
+              "high": Accuracy("as standard", None, "as standard")})
 def form_exact(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = BP_UPSAMPLE,
                accuracy: str = "standard", progress=None) -> ImageResult:
-    """The exact float64 matched filter (the registered ``exact`` former), normalised as ``bp``.
+    """The exact float64 matched filter (the ``exact`` former), normalised as ``bp``.
 
     Parameters
     ----------
@@ -218,8 +237,7 @@ def form_exact(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: i
         :func:`max_seconds`.
     """
     if ph.mode == "stripmap" and ph.real_aperture > 0:
-        raise ScenarioError("processing.algorithm", "exact", "the exact matched filter is for spotlight data "
-                            "here; use bp for stripmap (it equalises the beam)")
+        raise ScenarioError("processing.algorithm", "exact", form_exact.spec.refusal("stripmap", True))
     P, M = ph.data.shape
     nx, ny = grid.shape
     est = estimated_seconds(P, M, nx * ny)

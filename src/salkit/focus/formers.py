@@ -1,4 +1,4 @@
-"""Image formers: one signature, one normalisation, registered by name.
+"""Image formers: one signature, one normalisation, one declaration each.
 
 Every former is a function::
 
@@ -6,22 +6,27 @@ Every former is a function::
         accuracy: str = "standard", progress=None) -> ImageResult
 
 whose image is normalised so that a unit-reflectance point at the beam centre peaks near 1
-(the window's coherent gain divided out). A new algorithm is one file in ``salkit/focus`` with
-``@register_former("name")`` on its former, its module imported in ``salkit/focus/pipeline.py``
-(where the formers register), and its name in :data:`salkit.choices.ALGORITHMS` (a test checks the
-two lists agree).
+(the window's coherent gain divided out), declared once with :func:`register_former`: the
+collection modes and tracks it accepts, whether it forms tiles of the grid and blocks of pulses,
+its memory, its accuracy settings and the error each promises against the exact former. The
+declaration (:class:`FormerSpec`, in :data:`salkit.registry.FORMERS`) is what the rest of salkit
+reads: the scenario check of ``processing.algorithm``, the sampling preflight, the memory plan and
+the tiles (:mod:`salkit.focus.tiles`), the pipeline, the command line's help and the README's table
+of formers. A new former is one module that declares it (imported by
+:mod:`salkit.focus.pipeline` for the built-in ones; any module of the user's for others) and its
+test; docs/architecture.md has the recipe.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable, Optional, Protocol
+from typing import Callable, Mapping, NamedTuple, Optional, Protocol
 
 import numpy as np
 
-from ..choices import ALGORITHMS
-from ..errors import ScenarioError
+from ..choices import ACCURACY
 from ..geometry.collection import ImagePlane, grid_axes, plane_from
 from ..params.models import Grid
+from ..registry import FORMERS, declare
 from ..signals.windows import Window
 from .phasehistory import PhaseHistory
 from ..tolerances import BP_UPSAMPLE
@@ -92,41 +97,220 @@ class Former(Protocol):
                  accuracy: str = "standard", progress: Optional[Callable[[int, int], None]] = None) -> ImageResult: ...
 
 
-#: name -> former, filled by :func:`register_former`.
-FORMERS: dict[str, Former] = {}
+class Sizes(NamedTuple):
+    """The sizes a former's memory estimate reads.
+
+    Attributes
+    ----------
+    pulses, samples : int
+        The signal's shape.
+    nx, ny : int
+        The output grid, pixels.
+    cover : int
+        Pixels of a formed grid larger than the output (PFA's cover), else nx * ny.
+    """
+
+    pulses: int
+    samples: int
+    nx: int
+    ny: int
+    cover: int
 
 
-def register_former(name: str) -> Callable[[Former], Former]:
-    """Decorator registering an image former under ``name``.
+@dataclass(frozen=True)
+class Accuracy:
+    """One accuracy setting of a former and what it promises.
+
+    Attributes
+    ----------
+    settings : str
+        What the setting does, in words (for the help and the README).
+    error_db : float or None
+        Promised image error energy sum |I - T|^2 / sum |T|^2 against the exact former, dB, on the
+        geometries of :mod:`salkit.simulate.testbeds` (the test of accuracy holds every former to
+        it); None where the former promises none there (``note`` says why).
+    note : str
+        Where the promise holds, or why there is none.
+    """
+
+    settings: str
+    error_db: Optional[float]
+    note: str = ""
+
+
+#: Collection modes a former may accept, and the tracks.
+MODES = ("spotlight", "stripmap")
+TRACKS = ("any", "straight")
+#: Where the deterministic phase of an image is referred (:func:`salkit.metrics.measure.image_phase_model`).
+PHASE_REFERENCES = ("aperture_centre", "track")
+
+
+@dataclass(frozen=True)
+class FormerSpec:
+    """What the house knows of an image former, declared once (:func:`register_former`).
+
+    Attributes
+    ----------
+    name : str
+        The ``processing.algorithm`` value (and ``--algorithm``).
+    form : Former
+        The former.
+    summary : str
+        One line: what it is (the help, the README).
+    modes : tuple of {"spotlight", "stripmap"}
+        Collection modes it forms.
+    tracks : {"any", "straight"}
+        Trajectories it forms (omega-k needs a straight track).
+    phase_reference : {"aperture_centre", "track"}
+        Where its image's deterministic phase is referred (stripmap images always follow the track).
+    tiles : bool
+        Whether it forms any sub-grid of the image on its own (so a job too big for memory runs
+        in tiles of the grid, :mod:`salkit.focus.tiles`).
+    tile_overlap : int
+        Pixels each side by which a tile is formed larger than it is kept (its edge error cropped
+        off; 0 when a tile is the image's pixels exactly).
+    blocks : callable or None
+        ``blocks(pulses, grid, window, ranges, upsample, accuracy) -> (image, info)``: a spotlight
+        tile formed a block of pulses at a time (``pulses.block(a, b)`` for each (a, b) in
+        ``ranges``), normalised over all the pulses; None when the former needs every pulse at once.
+    memory : callable
+        ``memory(sizes: Sizes) -> bytes`` the former needs beyond what every former holds (the
+        signal, the range compression's buffers, the image's accumulators and output).
+    accuracy : mapping
+        Every level of :data:`salkit.choices.ACCURACY` -> :class:`Accuracy`.
+    """
+
+    name: str
+    form: Former
+    summary: str
+    modes: tuple
+    tracks: str
+    phase_reference: str
+    tiles: bool
+    tile_overlap: int
+    blocks: Optional[Callable]
+    memory: Callable[[Sizes], float]
+    accuracy: Mapping[str, Accuracy] = field(default_factory=dict)
+
+    def __post_init__(self):
+        what = f"image former {self.name!r}"
+        bad = [m for m in self.modes if m not in MODES]
+        if not self.modes or bad:
+            raise ValueError(f"{what}: modes {self.modes!r} must be a non-empty tuple of {MODES}")
+        if self.tracks not in TRACKS:
+            raise ValueError(f"{what}: tracks {self.tracks!r} must be one of {TRACKS}")
+        if self.phase_reference not in PHASE_REFERENCES:
+            raise ValueError(f"{what}: phase_reference {self.phase_reference!r} must be one of {PHASE_REFERENCES}")
+        if sorted(self.accuracy) != sorted(ACCURACY) or not all(isinstance(a, Accuracy) for a in self.accuracy.values()):
+            raise ValueError(f"{what}: accuracy must map each of {ACCURACY} to an Accuracy (undeclared: "
+                             f"{', '.join(a for a in ACCURACY if a not in self.accuracy) or 'none'})")
+        if self.tile_overlap < 0 or (self.tile_overlap and not self.tiles):
+            raise ValueError(f"{what}: tile_overlap {self.tile_overlap} needs tiles=True and must be >= 0")
+        if self.blocks is not None and not self.tiles:
+            raise ValueError(f"{what}: pulse blocks (blocks) are formed tile by tile: declare tiles=True")
+        if not callable(self.form) or not callable(self.memory):
+            raise ValueError(f"{what}: form and memory must be callables")
+
+    def accepts(self, mode: str, straight: bool) -> bool:
+        """Whether it forms a collection of ``mode`` (straight track or not).
+
+        Parameters
+        ----------
+        mode : str
+        straight : bool
+
+        Returns
+        -------
+        bool
+        """
+        return mode in self.modes and (self.tracks == "any" or straight)
+
+    def refusal(self, mode: str, straight: bool) -> str:
+        """Why it does not form such a collection, and which formers do.
+
+        Parameters
+        ----------
+        mode : str
+        straight : bool
+
+        Returns
+        -------
+        str
+        """
+        track = " on a straight track" if self.tracks == "straight" else ""
+        others = [n for n, s in FORMERS.items() if s.accepts(mode, straight)]
+        return (f"{self.name} forms {' and '.join(self.modes)} collections{track}; this one is {mode}"
+                f"{'' if straight else ' on a curved track'}: use {', '.join(others) or 'another former'}")
+
+    def pulse_blocks(self, stripmap: bool) -> bool:
+        """Whether it forms the pulses in blocks for such a collection (spotlight only: a stripmap
+        image equalises the beam over every pulse).
+
+        Parameters
+        ----------
+        stripmap : bool
+
+        Returns
+        -------
+        bool
+        """
+        return self.blocks is not None and not stripmap
+
+
+def register_former(name: str, **declaration) -> Callable[[Former], Former]:
+    """Decorator declaring an image former: ``@register_former("name", summary=..., modes=...,
+    ...)`` on the former function.
 
     Parameters
     ----------
     name : str
-        The ``processing.algorithm`` value that selects it; it must be in
-        :data:`salkit.choices.ALGORITHMS`.
+        The ``processing.algorithm`` value that selects it.
+    **declaration
+        Every other field of :class:`FormerSpec` (all required).
 
     Returns
     -------
     callable
-        The decorator (it returns the former unchanged).
+        The decorator (it returns the former unchanged, its declaration at ``.spec``).
 
     Raises
     ------
+    TypeError
+        For a property :class:`FormerSpec` does not have, or one not declared.
     ValueError
-        For a name already registered or not among the allowed choices.
+        For a name already declared, or a property out of its range.
     """
     def deco(fn: Former) -> Former:
-        if name in FORMERS:
-            raise ValueError(f"image former {name!r} is already registered")
-        if name not in ALGORITHMS:
-            raise ValueError(f"image former {name!r} is not in salkit.choices.ALGORITHMS {ALGORITHMS}")
-        FORMERS[name] = fn
+        spec = declare(FormerSpec, f"image former {name!r}", name=name, form=fn, **declaration)
+        FORMERS.add(name, spec)
+        fn.spec = spec
         return fn
     return deco
 
 
+def former_spec(name: str, field: str = "processing.algorithm") -> FormerSpec:
+    """The declaration of the former ``name``.
+
+    Parameters
+    ----------
+    name : str
+    field : str
+        The field or option that named it, for the message.
+
+    Returns
+    -------
+    FormerSpec
+
+    Raises
+    ------
+    ScenarioError
+        For an undeclared name: the nearest name and the declared ones.
+    """
+    return FORMERS.get(name, field)
+
+
 def get_former(name: str) -> Former:
-    """The image former registered under ``name``.
+    """The image former declared under ``name``.
 
     Parameters
     ----------
@@ -141,7 +325,34 @@ def get_former(name: str) -> Former:
     ScenarioError
         For an unknown name (field ``processing.algorithm``).
     """
-    try:
-        return FORMERS[name]
-    except KeyError:
-        raise ScenarioError("processing.algorithm", name, f"must be one of {', '.join(sorted(FORMERS))}") from None
+    return FORMERS.get(name).form
+
+
+def former_table() -> str:
+    """The README's table of formers (Markdown), from their declarations.
+
+    Returns
+    -------
+    str
+    """
+    def promise(a: Accuracy) -> str:
+        p = f"better than {a.error_db:g} dB" if a.error_db is not None else "no promise"
+        return f"{a.settings}: {p}" + (f" ({a.note})" if a.note else "")
+
+    rows = ["| former | what | collections | tiles / pulse blocks | `standard` | `high` |", "|---|---|---|---|---|---|"]
+    for n, s in FORMERS.items():
+        coll = " and ".join(s.modes) + (", straight track" if s.tracks == "straight" else "")
+        cut = ("yes" if s.tiles else "no") + " / " + ("yes (spotlight)" if s.blocks is not None else "no")
+        rows.append(f"| `{n}` | {s.summary} | {coll} | {cut} | {promise(s.accuracy['standard'])} | "
+                    f"{promise(s.accuracy['high'])} |")
+    return "\n".join(rows) + "\n"
+
+
+def former_help() -> str:
+    """The command line's help for ``--algorithm``, from the declarations.
+
+    Returns
+    -------
+    str
+    """
+    return "; ".join(f"{n}: {s.summary}" for n, s in FORMERS.items())

@@ -17,7 +17,7 @@ from ..constants import FFT_WORKERS, SPEED_OF_LIGHT
 from ..errors import ScenarioError
 from ..geometry.collection import beam_gain, beam_gain_table, two_way_3db_sin
 from ..signals.windows import Window
-from .formers import ImageGrid, ImageResult, register_former
+from .formers import Accuracy, ImageGrid, ImageResult, Sizes, register_former
 from .interp import resample_rows
 from .phasehistory import PhaseHistory
 from ..tolerances import BP_UPSAMPLE
@@ -120,11 +120,30 @@ def omegak(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: n
                                       "reference_range_scene": Rs}
 
 
-@register_former("omegak")
+def omegak_memory(sizes: Sizes) -> float:
+    """Bytes omega-k adds: its Stolt-interpolated spectrum.
+
+    Parameters
+    ----------
+    sizes : Sizes
+
+    Returns
+    -------
+    float
+    """
+    return 4 * 8.0 * sizes.pulses * sizes.samples + 16.0 * sizes.nx * sizes.ny
+
+
+@register_former(
+    "omegak", summary="omega-k (wavenumber domain): Stolt interpolation, beam equalised",
+    modes=("stripmap",), tracks="straight", phase_reference="track", tiles=False, tile_overlap=0, blocks=None,
+    memory=omegak_memory,
+    accuracy={"standard": Accuracy("8-tap Kaiser sinc Stolt interpolation", None,
+                                   "the exact former is spotlight's; judged by its IPR against theory"),
+              "high": Accuracy("as standard", None, "as standard")})
 def form_omegak(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = BP_UPSAMPLE,
                 accuracy: str = "standard", progress=None) -> ImageResult:
-    """Omega-k image of a stripmap collection on a straight track (the registered ``omegak``
-    former).
+    """Omega-k image of a stripmap collection on a straight track (the ``omegak`` former).
 
     Parameters
     ----------
@@ -149,8 +168,11 @@ def form_omegak(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: 
     ScenarioError
         For spotlight data or an unknown aperture.
     """
-    if ph.mode != "stripmap" or ph.real_aperture <= 0:
-        raise ScenarioError("processing.algorithm", "omegak", "omega-k needs stripmap data")
+    if ph.mode != "stripmap":
+        raise ScenarioError("processing.algorithm", "omegak", form_omegak.spec.refusal(ph.mode, True))
+    if ph.real_aperture <= 0:
+        raise ScenarioError("processing.algorithm", "omegak", "omega-k equalises the beam: it needs the telescope's "
+                            f"real_aperture (the data give {ph.real_aperture!r})")
     table, dsin = beam_gain_table(ph.wavelength, ph.real_aperture)
     img, info = omegak(ph.data, ph.freq, ph.positions, ph.reference_range, grid.plane, grid.azimuth, grid.range,
                        ph.track, ph.center_position, table, dsin, two_way_3db_sin(ph.wavelength, ph.real_aperture),

@@ -23,8 +23,8 @@ from ..constants import FFT_WORKERS, SPEED_OF_LIGHT
 from ..errors import ScenarioError
 from ..geometry.collection import angle_between, first_null_sin
 from ..signals.windows import Window
-from .backprojection import _sincos_cycles
-from .formers import ImageGrid, ImageResult, register_former
+from ..signals.phase import sincos_cycles as _sincos_cycles
+from .formers import Accuracy, ImageGrid, ImageResult, Sizes, register_former
 from .phasehistory import PhaseHistory
 from .interp import azimuth_pass, interp_rows_linear, kernel_table
 from ..resources import check_memory
@@ -367,10 +367,30 @@ def pfa_on_grid(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_ran
     return img.astype(np.complex64, copy=False), {"support_azimuth": nkx, "support_range": nky}
 
 
-@register_former("pfa")
+def pfa_memory(sizes: Sizes) -> float:
+    """Bytes the polar format algorithm adds: its formed (cover) grid and K-space buffer.
+
+    Parameters
+    ----------
+    sizes : Sizes
+
+    Returns
+    -------
+    float
+    """
+    return 24.0 * max(sizes.cover, sizes.nx * sizes.ny) + 8.0 * sizes.pulses * sizes.samples
+
+
+@register_former(
+    "pfa", summary="polar format: plane-wave model, K-space resampled onto an inscribed rectangle, FFT",
+    modes=("spotlight",), tracks="any", phase_reference="aperture_centre", tiles=False, tile_overlap=0, blocks=None,
+    memory=pfa_memory,
+    accuracy={"standard": Accuracy("8-tap Kaiser sinc resampling", None,
+                                   "-27 dB at the seed geometries; warns where the wavefront curvature breaks it"),
+              "high": Accuracy("as standard", None, "as standard")})
 def form_pfa(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = BP_UPSAMPLE,
              accuracy: str = "standard", progress=None) -> ImageResult:
-    """Polar format image of a spotlight collection (the registered ``pfa`` former).
+    """Polar format image of a spotlight collection (the ``pfa`` former).
 
     Parameters
     ----------
@@ -396,7 +416,7 @@ def form_pfa(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int
         For stripmap data, or a cover grid too large (:func:`pfa`).
     """
     if ph.mode != "spotlight":
-        raise ScenarioError("processing.algorithm", "pfa", "the polar format algorithm needs spotlight data")
+        raise ScenarioError("processing.algorithm", "pfa", form_pfa.spec.refusal(ph.mode, True))
     img, info = pfa(ph.data, ph.freq, ph.positions, ph.reference_range, grid.plane, grid.azimuth, grid.range,
                     window, window, real_aperture=ph.real_aperture)
     if progress:

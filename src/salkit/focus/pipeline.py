@@ -2,9 +2,10 @@
 dataset's coordinates and collection geometry.
 
 ``focus`` dispatches on the kind of the data (:data:`PROCESSORS`: SAL raw data and phase
-histories, down-looking SAL raw data); SAL images are formed by the registered formers
-(:data:`FORMERS`: ``bp`` backprojection, ``pfa`` polar format, ``omegak`` wavenumber domain),
-which share one signature and one normalisation (:mod:`salkit.focus.formers`).
+histories, down-looking SAL raw data); SAL images are formed by the declared formers
+(:data:`salkit.registry.FORMERS`), which share one signature and one normalisation
+(:mod:`salkit.focus.formers`). The built-in formers declare themselves when this module imports
+their modules (the registry's provider).
 """
 from __future__ import annotations
 
@@ -26,9 +27,9 @@ from ..resources import available_memory, parse_size, size_text, user_limit
 from ..signals.windows import Window
 from ..tolerances import GRID_SPACING_OF_RESOLUTION
 from ..simulate.echoes import memory_estimate as simulate_memory_estimate, signal_shape
-from . import bp, exact, ffbp, omegak, pfa  # noqa: F401  (each registers its former)
+from . import bp, ffbp, pfa, omegak, exact  # noqa: F401  (each declares its former, in this order)
 from .downlooking import focus_downlooking_raw
-from .formers import ImageGrid, ImageResult, get_former
+from .formers import ImageGrid, ImageResult, former_spec, get_former
 from .phasehistory import PhaseHistory, default_grid, phase_history, theory_resolution
 from .tiles import DatasetPulses, InMemoryPulses, form_tiles, memory_estimate, plan_tiling
 
@@ -75,8 +76,8 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=
     scenario : Scenario, optional
         The scenario ``raw`` was simulated from, when the caller has it (saves parsing the copy
         stored in ``raw.attrs``; used for the processing defaults and the true target positions).
-    algorithm : {"bp", "pfa", "omegak", "ffbp"}, optional
-        Overrides ``processing.algorithm``.
+    algorithm : str, optional
+        A declared former (:data:`salkit.registry.FORMERS`); overrides ``processing.algorithm``.
     grid : Grid, optional
         Overrides ``processing.grid``.
     window_name : {"none", "hamming", "taylor"}, optional
@@ -87,15 +88,16 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=
         ``progress(done, total)`` in pulses (in tiles when tiled; one with a ``renamed(unit)``
         method, :class:`salkit.systems.result.Stage`, is renamed "tiles formed").
     accuracy : {"standard", "high"}, optional
-        Overrides ``processing.accuracy`` (high: bp at 32x profiles or more, ffbp on finer polar grids).
+        Overrides ``processing.accuracy`` (each former declares what a level does and promises:
+        bp 32x profiles or more, ffbp finer polar grids).
     memory_limit : int, float or str, optional
         Memory budget, bytes or a size such as ``"512MiB"`` (default, and at most: the memory
         available, :func:`salkit.resources.available_memory`). A job whose estimate exceeds it is
-        formed in tiles of the output grid (bp and ffbp) and, for spotlight data, with its
-        pulses in blocks read from ``raw`` as needed (``raw`` may be opened lazily from a file);
+        formed in tiles of the output grid (formers that declare ``tiles``) and, for spotlight
+        data, with its pulses in blocks read from ``raw`` as needed (those that declare ``blocks``) (``raw`` may be opened lazily from a file);
         the image's ``tiling`` attribute says how (:mod:`salkit.focus.tiles`).
     client : dask.distributed.Client, optional
-        Form the tiles on Dask (``bp`` and ``ffbp``): at least two tiles a worker; a file's pulses
+        Form the tiles on Dask (formers that tile): at least two tiles a worker; a file's pulses
         read by each worker itself. ``memory_limit`` is then per worker on a remote cluster, and
         shared by the workers of a local one (``client.cluster`` a ``LocalCluster``).
 
@@ -108,13 +110,14 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=
     Raises
     ------
     ScenarioError
-        For an unknown algorithm, a grid coarser than the resolution, or an algorithm that does not
-        fit the data (PFA on stripmap, omega-k on spotlight).
+        For an undeclared former, a grid coarser than the resolution, or a former that does not
+        form such data (its declared modes and tracks: PFA on stripmap, omega-k on spotlight).
     DataFileError
         For inconsistent arrays.
     ResourceError
-        When the estimated peak memory exceeds the budget and the job cannot be cut to fit (pfa,
-        omega-k; or one tile alone too big): the message names the memory and the budget.
+        When the estimated peak memory exceeds the budget and the job cannot be cut to fit (a
+        former that does not tile; or one tile alone too big): the message names the memory and
+        the budget.
 
     Examples
     --------
@@ -152,7 +155,10 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
     if processing is None and scenario is not None:
         processing = scenario.processing
     alg = algorithm or (processing.algorithm if processing else "bp")
-    get_former(alg)  # an unknown former is refused before any work
+    former = former_spec(alg)  # an undeclared former is refused before any work
+    stripmap = str(raw.attrs.get("mode", "spotlight")) == "stripmap" and float(raw.attrs.get("real_aperture", 0)) > 0
+    if not former.accepts("stripmap" if stripmap else "spotlight", True):  # the track is checked by the former
+        raise ScenarioError("processing.algorithm", alg, former.refusal("stripmap" if stripmap else "spotlight", True))
     g0 = grid or (processing.grid if processing else None)
     P, N = raw["signal"].shape
     chirp = processing.chirp_correction if processing is not None else "none"
@@ -246,7 +252,7 @@ def _image_attrs(ph: PhaseHistory, raw: xr.Dataset, scenario, g: Grid, alg: str,
         "pslr_theory": wi["pslr_db"], "islr_theory": wi["islr_db"],
         "grid_dx": g.dx, "grid_dy": g.dy,
         # stripmap pixels are focused about their own broadside: image phase follows the track
-        "phase_reference": "track" if (alg == "omegak" or ph.mode == "stripmap") else "aperture_centre",
+        "phase_reference": "track" if ph.mode == "stripmap" else former_spec(alg).phase_reference,
         "aperture_center": ph.center_position,
     }
     for k in ("frequency_fit_residual_steps", "frequency_fit_residual", "phase_sign_converted"):

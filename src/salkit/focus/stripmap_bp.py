@@ -32,7 +32,7 @@ def _window_continuous(win, x):
     return np.interp(x, np.linspace(0, 1, ref.size), ref)
 
 
-def stripmap_backprojection(ph, plane, az, rg, win, upsample=BP_UPSAMPLE, progress=None):
+def stripmap_backprojection(ph, plane, az, rg, win, upsample=BP_UPSAMPLE, progress=None, interpolation="linear"):
     """Focus stripmap data by full-beam backprojection and Doppler-domain equalisation.
 
     Parameters
@@ -46,6 +46,10 @@ def stripmap_backprojection(ph, plane, az, rg, win, upsample=BP_UPSAMPLE, progre
         Amplitude window (applied over the 3 dB Doppler band and over frequency).
     upsample : int
         Range-profile upsampling of the backprojection.
+    progress : callable, optional
+        ``progress(done, total)`` in pulses.
+    interpolation : {"linear", "nearest", "cubic"}
+        How the kernel reads the range profiles between bins.
 
     Returns
     -------
@@ -74,7 +78,7 @@ def stripmap_backprojection(ph, plane, az, rg, win, upsample=BP_UPSAMPLE, progre
     wr = win(M)
     row_origin = plane.points(azp, np.zeros_like(azp))
     img = backproject(ph.data, ph.freq, ph.positions, ph.reference_range, row_origin, plane.range, rg,
-                      W, wr, upsample=upsample, progress=progress)
+                      W, wr, upsample=upsample, progress=progress, interpolation=interpolation)
     img = img / wr.sum()
     # Doppler-domain equalisation over the two-way 3 dB band
     kappa = 2 * math.pi * sfft.fftfreq(nxp, dxp)

@@ -23,29 +23,22 @@ from typing import Callable, Optional
 
 import lazy_loader as _lazy
 import numpy as np
-import scipy.fft as sfft
 
 from ..errors import DataFileError, ResourceError, ScenarioError
 from ..io.datasets import lazy_reads
 from ..io.formats import read_phase_data
 from ..resources import in_dask_task, size_text as gib, task_numba_threads
 from ..signals.windows import Window
-from ..tolerances import BP_UPSAMPLE
-from .backprojection import backproject, profile_block
-from .ffbp import ACCURATE, ffbp
-from .formers import ImageGrid, get_former
+from ..registry import FORMERS
+from .formers import ImageGrid, Sizes, former_spec
 from .phasehistory import PhaseHistory, phase_history
 
 _dask_distributed = _lazy.load("dask.distributed", suppress_warning=True)
 
-#: Formers that can run in tiles of the output grid.
-TILEABLE = ("bp", "ffbp")
 #: Smallest tile side, pixels.
 MIN_TILE = 32
 #: Smallest pulse block (a multiple of backprojection's kernel block of 32 pulses).
 MIN_BLOCK = 64
-#: Pixels each side by which an FFBP tile is formed larger than it is kept (its edge error cropped off).
-FFBP_OVERLAP = 16
 #: Pulses per kernel call of :func:`salkit.focus.backprojection.backproject` (blocks are multiples).
 KERNEL_BLOCK = 32
 
@@ -54,12 +47,12 @@ def memory_estimate(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: 
                     raw: bool = True, cover_pixels: int | None = None) -> tuple[float, str]:
     """Peak memory of focusing, bytes, from the sizes.
 
-    The signal (complex64, pulses x samples) once, and from raw data the deskew's 2N-point FFT
-    buffers and the phase history (6 more); the image's float32 accumulators and complex64 output
-    (24 bytes a pixel); PFA adds its formed (cover) grid and K-space buffer, omega-k its
-    Stolt-interpolated spectrum, FFBP its two buffers of polar grids (each up to 3 times the
-    pixels, complex64: margins and padding) and its range profiles (about twice the signal), bp
-    one kernel call's upsampled range profiles (:func:`~salkit.focus.backprojection.profile_block`).
+    What every former holds: the signal (complex64, pulses x samples) once, and from raw data the
+    deskew's 2N-point FFT buffers and the phase history (6 more); the image's float32 accumulators
+    and complex64 output (24 bytes a pixel). Then what the former declares it adds
+    (:attr:`salkit.focus.formers.FormerSpec.memory`: PFA its formed grid and K-space buffer, omega-k
+    its Stolt-interpolated spectrum, FFBP its polar grids and range profiles, bp one kernel call's
+    upsampled range profiles).
 
     Parameters
     ----------
@@ -67,7 +60,8 @@ def memory_estimate(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: 
         Signal shape.
     nx, ny : int
         Output grid, pixels.
-    algorithm : {"bp", "pfa", "omegak", "ffbp"}
+    algorithm : str
+        A declared former.
     raw : bool
         Dechirped fast-time data (deskewed here) rather than a phase history.
     cover_pixels : int, optional
@@ -77,18 +71,17 @@ def memory_estimate(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: 
     -------
     (float, str)
         Bytes, and the sizes that drive it.
+
+    Raises
+    ------
+    ScenarioError
+        For an undeclared former.
     """
+    spec = former_spec(algorithm)
     sig = 8.0 * n_pulses * n_samples
     px = float(nx) * ny
     need = sig * (7 if raw else 2) + 24.0 * px
-    if algorithm == "bp":  # one kernel call's upsampled range profiles (bounded by the call's pulses)
-        need += profile_block(n_samples, BP_UPSAMPLE) * 2 * 8.0 * sfft.next_fast_len(int(n_samples * BP_UPSAMPLE))
-    if algorithm == "pfa":
-        need += 24.0 * max(cover_pixels or 0, px) + sig
-    elif algorithm == "omegak":
-        need += 4 * sig + 16.0 * px
-    elif algorithm == "ffbp":
-        need += 2 * 3.0 * 8.0 * px + 2 * sig
+    need += float(spec.memory(Sizes(n_pulses, n_samples, nx, ny, int(max(cover_pixels or 0, px)))))
     return need, (f"focusing {n_pulses} pulses x {n_samples} samples onto {nx} x {ny} pixels "
                   f"({algorithm})")
 
@@ -169,7 +162,8 @@ def plan_tiling(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str,
     nx, ny : int
         Output grid, pixels.
     algorithm : str
-        The former; only :data:`TILEABLE` ones are cut.
+        The former; only those that declare ``tiles`` are cut, and in pulse blocks those that
+        declare ``blocks``.
     budget : float
         Bytes.
     raw : bool
@@ -195,9 +189,11 @@ def plan_tiling(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str,
         When the job does not fit and cannot be cut (not a tileable former), or when one tile of
         the smallest size does not fit: the message names the memory and the budget.
     """
+    spec = former_spec(algorithm)
+
     def need(tx, ty, pb):
         cut = (tx, ty, pb) != (nx, ny, n_pulses)
-        m = 2 * FFBP_OVERLAP if (algorithm == "ffbp" and cut) else 0  # the overlap an FFBP tile is formed with
+        m = 2 * spec.tile_overlap if cut else 0  # the overlap a tile is formed with
         est = memory_estimate(pb, n_samples, min(nx, tx + m), min(ny, ty + m), algorithm, raw=raw)[0] * max(at_once, 1)
         return est + (8.0 * nx * ny if (cut and hold_image) else 0.0)
 
@@ -205,18 +201,19 @@ def plan_tiling(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str,
         return math.ceil(nx / tx) * math.ceil(ny / ty)
 
     tx, ty, pb = nx, ny, n_pulses
-    if min_tiles > 1 and algorithm in TILEABLE:  # work for every worker: halve the larger side
+    if min_tiles > 1 and spec.tiles:  # work for every worker: halve the larger side
         while count(tx, ty) < min_tiles and max(tx, ty) > MIN_TILE:
             tx, ty = (max(MIN_TILE, math.ceil(tx / 2)), ty) if tx >= ty else (tx, max(MIN_TILE, math.ceil(ty / 2)))
     est = need(tx, ty, pb)
     what = memory_estimate(n_pulses, n_samples, nx, ny, algorithm, raw=raw)[1]
     if est <= budget:
         return Tiling(nx, ny, tx, ty, n_pulses, pb, est, budget, algorithm)
-    if algorithm not in TILEABLE:
+    if not spec.tiles:
+        tileable = " or ".join(n for n, s in FORMERS.items() if s.tiles)
         raise ResourceError(f"{what} needs about {gib(est)} of memory, more than the {gib(budget)} available "
-                            f"(the budget); {algorithm} cannot run in tiles: use --algorithm bp or ffbp, a smaller "
+                            f"(the budget); {algorithm} cannot run in tiles: use --algorithm {tileable}, a smaller "
                             "grid or fewer pulses")
-    blockable = algorithm in ("bp", "ffbp") and not stripmap
+    blockable = spec.pulse_blocks(stripmap)
     while est > budget:
         options = []
         if max(tx, ty) > MIN_TILE:
@@ -361,48 +358,9 @@ def tile_grid(ig: ImageGrid, i0: int, i1: int, j0: int, j1: int) -> ImageGrid:
     return ImageGrid(ig.plane, az, rg, spec)
 
 
-def _bp_blocks(pulses, tig: ImageGrid, window: Window, blocks, upsample: int) -> np.ndarray:
-    """Spotlight backprojection of one tile, the pulses in blocks into one pair of accumulators,
-    normalised as :func:`salkit.focus.bp.form_bp`."""
-    P = pulses.n_pulses
-    nx, ny = tig.shape
-    wa = window(P).astype(np.float32)
-    re, im = np.zeros((nx, ny), np.float32), np.zeros((nx, ny), np.float32)
-    row_origin = tig.plane.points(tig.azimuth, np.zeros_like(tig.azimuth))
-    wr = None
-    for a, b in blocks:
-        ph = pulses.block(a, b)
-        if wr is None:
-            wr = window(ph.freq.size)
-        W = np.broadcast_to(wa[None, a:b], (nx, b - a))
-        backproject(ph.data, ph.freq, ph.positions, ph.reference_range, row_origin, tig.plane.range, tig.range,
-                    W, wr, upsample=upsample, out=(re, im))
-    norm = np.maximum(np.broadcast_to(wa[None, :], (nx, P)).sum(axis=1), 1e-30) * wr.sum()
-    return ((re + 1j * im) / norm[:, None]).astype(np.complex64)
-
-
-def _ffbp_blocks(pulses, tig: ImageGrid, window: Window, blocks, accuracy: str) -> tuple[np.ndarray, dict]:
-    """Spotlight FFBP of one tile, a pulse block at a time: each block's image (its own tree, the
-    collection's window over its pulses) added up and normalised as
-    :func:`salkit.focus.ffbp.form_ffbp` over all the pulses (FFBP is linear in the data)."""
-    P = pulses.n_pulses
-    wa = window(P)
-    knobs = ACCURATE if accuracy == "high" else {}
-    img, info, wr = None, {}, None
-    for a, b in blocks:
-        ph = pulses.block(a, b)
-        if wr is None:
-            wr = window(ph.freq.size)
-        part, info = ffbp(ph.data, ph.freq, ph.positions, ph.reference_range, tig, wa[a:b], wr, **knobs)
-        img = part if img is None else img + part
-    norm = max(float(wa.sum()), 1e-30) * float(wr.sum())
-    info.update({"support_azimuth": P, "support_range": int(wr.size)})
-    return (img / norm).astype(np.complex64), info
-
-
 def form_tile(pulses, tig: ImageGrid, window: Window, tiling: Tiling, upsample: int, accuracy: str):
-    """One tile's image: backprojected (spotlight ``bp``) or formed by FFBP a pulse block at a time
-    when the pulses are in blocks, else the former on the whole phase history.
+    """One tile's image: formed a pulse block at a time by the former's declared ``blocks`` when
+    the pulses are cut (spotlight data), else by the former on the whole phase history.
 
     Parameters
     ----------
@@ -419,20 +377,18 @@ def form_tile(pulses, tig: ImageGrid, window: Window, tiling: Tiling, upsample: 
     (complex64 ndarray, dict)
         The tile and the former's info.
     """
+    spec = former_spec(tiling.algorithm)
     probe = pulses.probe
-    if tiling.algorithm == "bp" and not (probe.mode == "stripmap" and probe.real_aperture > 0):
-        return (_bp_blocks(pulses, tig, window, tiling.blocks, upsample),
-                {"support_azimuth": tiling.pulses, "support_range": probe.freq.size})
-    if tiling.algorithm == "ffbp" and tiling.pulse_block < tiling.pulses:
-        return _ffbp_blocks(pulses, tig, window, tiling.blocks, accuracy)
-    res = get_former(tiling.algorithm)(pulses.whole(), tig, window, upsample=upsample, accuracy=accuracy)
+    if tiling.pulse_block < tiling.pulses and spec.pulse_blocks(probe.mode == "stripmap" and probe.real_aperture > 0):
+        return spec.blocks(pulses, tig, window, tiling.blocks, upsample, accuracy)
+    res = spec.form(pulses.whole(), tig, window, upsample=upsample, accuracy=accuracy)
     return res.image, res.info
 
 
 def tile_image(pulses, ig: ImageGrid, window: Window, tiling: Tiling, box, upsample: int, accuracy: str):
-    """The pixels ``box`` = (i0, i1, j0, j1) of the image: formed on that sub-grid, and for FFBP on
-    the sub-grid grown by :data:`FFBP_OVERLAP` pixels each side (inside the grid) and cropped, so
-    that the error FFBP makes near the edge of what it forms stays out of the tile (no seam).
+    """The pixels ``box`` = (i0, i1, j0, j1) of the image: formed on that sub-grid grown by the
+    former's declared ``tile_overlap`` pixels each side (inside the grid; FFBP's 16) and cropped, so
+    that the error a former makes near the edge of what it forms stays out of the tile (no seam).
 
     Parameters
     ----------
@@ -450,7 +406,7 @@ def tile_image(pulses, ig: ImageGrid, window: Window, tiling: Tiling, box, upsam
     (complex64 ndarray, dict)
     """
     i0, i1, j0, j1 = box
-    m = FFBP_OVERLAP if tiling.algorithm == "ffbp" and tiling.tiled else 0
+    m = former_spec(tiling.algorithm).tile_overlap if tiling.tiled else 0
     e0, e1, f0, f1 = max(0, i0 - m), min(ig.shape[0], i1 + m), max(0, j0 - m), min(ig.shape[1], j1 + m)
     img, info = form_tile(pulses, tile_grid(ig, e0, e1, f0, f1), window, tiling, upsample, accuracy)
     return img[i0 - e0:i1 - e0, j0 - f0:j1 - f0], info
@@ -498,9 +454,10 @@ def form_tiles(pulses, ig: ImageGrid, window: Window, tiling: Tiling, *, upsampl
     blocked = tiling.pulse_block < tiling.pulses
     probe = pulses.probe
     spotlight = not (probe.mode == "stripmap" and probe.real_aperture > 0)
-    if blocked and not (spotlight and tiling.algorithm in ("bp", "ffbp")):
-        raise ScenarioError("processing.algorithm", tiling.algorithm, "only bp and ffbp of spotlight data form "
-                            "their pulses in blocks")
+    if blocked and not former_spec(tiling.algorithm).pulse_blocks(not spotlight):
+        blockers = ", ".join(n for n, s in FORMERS.items() if s.blocks is not None)
+        raise ScenarioError("processing.algorithm", tiling.algorithm, f"only {blockers} form the pulses of spotlight "
+                            "data in blocks")
     remote_file = client is not None and isinstance(pulses, DatasetPulses) and pulses.source
     if not blocked and not remote_file:
         pulses = InMemoryPulses(pulses.whole())  # read once, for every tile

@@ -11,6 +11,7 @@ from ..constants import SPEED_OF_LIGHT
 from ..errors import SamplingError, ScenarioError
 from ..tolerances import GRID_SPACING_OF_RESOLUTION
 from ..params.models import Scenario
+from ..registry import FORMERS
 from .collection import (Collection, _unit, build_collection, first_null_sin, footprint, image_plane, plane_resolution,
                          processed_angle, scene_point_positions)
 
@@ -260,14 +261,9 @@ def check_sampling(scenario: Scenario, col: Collection | None = None) -> Samplin
         if rx.adc_rate < need * (1 - 1e-9):
             raise SamplingError("receiver.adc_rate", rx.adc_rate,
                                 f"must be >= twice the highest beat frequency, {need:.6g} Hz (real sampling)")
-    if proc.algorithm == "pfa" and p.mode != "spotlight":
-        raise ScenarioError("processing.algorithm", "pfa", "the polar format algorithm needs spotlight mode")
-    if proc.algorithm == "ffbp" and p.mode != "spotlight":
-        raise ScenarioError("processing.algorithm", "ffbp", "fast factorised backprojection is for spotlight data "
-                            "here; use bp for stripmap (it equalises the beam)")
-    if proc.algorithm == "omegak" and (p.mode != "stripmap" or p.positions is not None):
-        raise ScenarioError("processing.algorithm", "omegak",
-                            "omega-k needs stripmap mode on a straight track")
+    former = FORMERS.get(proc.algorithm)  # what it forms, as it declares (salkit.focus.formers.FormerSpec)
+    if not former.accepts(p.mode, p.positions is None):
+        raise ScenarioError("processing.algorithm", proc.algorithm, former.refusal(p.mode, p.positions is None))
     res = resolution_theory(scenario, col)
     g = proc.grid
     # the line of sight turns at v_perp / R: the velocity across it sets the azimuth ambiguity (a

@@ -14,9 +14,10 @@ from typing import Annotated, Literal, Optional, Union
 import numpy as np
 from pydantic import Discriminator, Field, Tag, field_validator, model_validator
 
-from ..choices import (ACCURACY, ALGORITHMS, ATMOSPHERE_MODELS, AUTOFOCUS_METHODS, CHIRP_CORRECTIONS, PGA_KERNELS,
+from ..choices import (ACCURACY, ATMOSPHERE_MODELS, AUTOFOCUS_METHODS, CHIRP_CORRECTIONS, PGA_KERNELS,
                        PLANES, STACK_MODES, WINDOWS)
 from ..constants import SPEED_OF_LIGHT
+from ..registry import FORMERS
 from ..tolerances import BP_UPSAMPLE
 from .base import FieldProblem, PhaseError, _Frozen
 from .downlooking import DownlookingExperiment
@@ -323,7 +324,8 @@ class Grid(_Frozen):
 class Processing(_Frozen):
     """Image formation settings."""
 
-    algorithm: Literal[ALGORITHMS] = "bp"
+    algorithm: str = Field(default="bp", description=(
+        "the image former: a declared one (salkit.registry.FORMERS; `salkit focus --help` lists them)"))
     window: Literal[WINDOWS] = "none"
     taylor_nbar: int = Field(default=4, ge=1)
     taylor_sll: float = Field(default=35.0, gt=13.3, description="Taylor sidelobe level, dB")
@@ -333,12 +335,19 @@ class Processing(_Frozen):
     autofocus_kernel: Literal[PGA_KERNELS] = "lumv"
     autofocus_max_iter: int = Field(default=30, ge=1, le=500)
     accuracy: Literal[ACCURACY] = Field(
-        default="standard", description=("image-formation accuracy against the exact matched filter: standard (bp -64 to -69 dB, "
-                                          "ffbp -56.5 to -61 dB) or high, for interferometry (bp at 32x profiles -75.5 to -78.5 dB, "
-                                          "ffbp on finer polar grids -64 to -73 dB)"))
+        default="standard", description=("image-formation accuracy against the exact matched filter: standard or high "
+                                          "(for interferometry); what each former promises at each level is in its "
+                                          "declaration (the README's table of formers)"))
     range_upsample: int = Field(default=BP_UPSAMPLE, ge=2, le=64, description="backprojection profile upsampling (16: -64 to -69 dB against the exact matched filter, 32: -75.5 to -78.5 dB)")
     chirp_correction: Literal[CHIRP_CORRECTIONS] = Field(
         default="none", description="nonlinear-chirp correction from the reference channel")
+
+    @field_validator("algorithm")
+    @classmethod
+    def _declared_former(cls, v: str) -> str:
+        if v not in FORMERS:
+            raise ValueError(str(FORMERS.unknown(v).constraint))
+        return v
 
 
 # --------------------------------------------------------------------------- atmosphere

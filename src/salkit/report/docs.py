@@ -14,6 +14,7 @@ import shutil
 from pathlib import Path
 
 from ..errors import DataFileError
+from ..focus.formers import former_table
 
 #: Figures of a results folder copied into docs/images (source, destination name).
 FIGURES = (("spotlight_points/image.png", "spotlight_points_image.png"),
@@ -117,12 +118,12 @@ def blocks(results: str | Path) -> dict:
     Returns
     -------
     dict
-        Block name -> text.
+        Block name -> text (the table of formers from their declarations).
     """
     results = Path(results)
     return {"spotlight_caption": spotlight_caption(_metrics(results, "spotlight_points")),
             "downlooking_caption": downlooking_caption(_metrics(results, "downlooking_3d")),
-            "files": files_table(results)}
+            "files": files_table(results), "formers": former_table()}
 
 
 def read_blocks(text: str) -> dict:

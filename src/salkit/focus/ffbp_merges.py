@@ -1,0 +1,270 @@
+"""Fast factorised backprojection's kernels, part two (numba): the merges of child sub-images
+into their parent's polar grid, and the last interpolation onto the image's rows. The driver is
+:mod:`salkit.focus.ffbp`; the leaves and the range pass are in :mod:`salkit.focus.ffbp_leaves`.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from ..signals.phase import sincos_cycles as _sincos_cycles
+from .ffbp_leaves import (RAMP2, SEG_FRACTION, SEG_MAX, _angle_at, _line_scratch, _polar_line, _range_pass, _rotate,
+                          _segment_end)
+
+#: Taps of the angular interpolation (the range one has 6).
+ANGLE_TAPS = 8
+
+
+@njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
+def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, cx, cy, cz, dr_child, ea0, ea1, ea2, X0, X1, X2, E0, E1, E2,
+                      r_line, extra, q0, q1, q2, qq, drho, cyc_per_m, tu, tr, acc2, fr_b, v_b, sn_b, cs_b, h2, t2):
+    """Add child ``c`` (baseband, interpolated, phase restored) along one parent line of points.
+
+    ``Gf`` holds the children's grids as float32, (re, im) interleaved along range; ``acc2`` the
+    line's accumulator, interleaved too. The parent line crosses the child's range bins in order,
+    so the 2-D interpolation separates (14 taps instead of 48). Pass 1 (SIMD): every point's child
+    range bin (fraction) and angle index, and the phase k (r_c - r) as float32 sin/cos after a
+    float64 reduction. Pass 2: the child cut along the line in angle at each of its own range bins
+    the line crosses; pass 3: that cut interpolated in range at every point. Both run in segments
+    where the fraction keeps its integer part, moves by at most ``SEG_FRACTION`` and departs from
+    linear by at most ``SEG_CURVATURE``: there the weights are linear along the segment and the
+    inner loops run over contiguous floats (SIMD). Points are assumed valid (the caller trims the
+    line to its points in the plane).
+    """
+    n = X0.shape[0]
+    inv_dr = 1.0 / dr_child
+    inv_du = 1.0 / duc
+    T = tr.shape[0] - 1
+    for k in range(n):
+        e0 = X0[k] - cx
+        e1 = X1[k] - cy
+        e2 = X2[k] - cz
+        rc = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
+        fr_b[k] = (rc - r0c) * inv_dr
+        v_b[k] = ((e0 * ea0 + e1 * ea1 + e2 * ea2) / rc - u0c) * inv_du
+        # k ((|X - c_child| - rho_child) - (|X - c_line| - rho_line) + extra), from small differences
+        dif = (q0 * E0[k] + q1 * E1[k] + q2 * E2[k] + qq) / (rc + r_line[k])
+        cyc = (dif - drho + extra[k]) * cyc_per_m
+        y = np.float32(cyc - np.floor(cyc + 0.5))
+        sn, cs = _sincos_cycles(y)
+        sn_b[k] = sn
+        cs_b[k] = cs
+    if n < 2:
+        return
+    # pass 2: the child cut along the line, on the child's range bins j_lo .. j_hi, into h2
+    hb = tr.shape[1] // 2 - 1
+    j_lo = max(int(math.floor(fr_b[0])) - hb, 0)
+    j_hi = min(int(math.floor(fr_b[n - 1])) + tr.shape[1] - hb - 1, nrc - 1)
+    if j_hi < j_lo:
+        return
+    ha = ANGLE_TAPS // 2 - 1
+    span = fr_b[n - 1] - fr_b[0]
+    inv_slope = (n - 1) / span if span > 0.0 else 0.0
+    j = j_lo
+    while j <= j_hi:
+        f0 = _angle_at(j, fr_b, v_b, n, inv_slope)
+        iu = int(math.floor(f0))
+        e = min(j + SEG_MAX - 1, j_hi)
+        if e > j:  # first guess from the local slope, then halve until the segment qualifies
+            f1 = _angle_at(j + 1, fr_b, v_b, n, inv_slope)
+            d = abs(f1 - f0)
+            if d > 0.0:  # room to the integer boundary it moves towards
+                room = min(SEG_FRACTION, (iu + 1 - f0) if f1 > f0 else (f0 - iu))
+                e = min(e, j + max(int(room / d), 1))
+            while e > j:
+                fe = _angle_at(e, fr_b, v_b, n, inv_slope)
+                fm = _angle_at(0.5 * (j + e), fr_b, v_b, n, inv_slope)
+                if _segment_end(f0, fe, fm, 0.5 * (f0 + fe), iu, int(math.floor(fe))):
+                    break
+                e = j + (e - j) // 2
+        m2 = 2 * (e + 1 - j)
+        hh = h2[2 * (j - j_lo):2 * (j - j_lo) + m2]
+        if iu >= ha and iu + ANGLE_TAPS - ha <= nuc:
+            t0 = f0 - iu
+            t1 = _angle_at(e, fr_b, v_b, n, inv_slope) - iu
+            i0 = int(t0 * T + 0.5)
+            i1 = int(t1 * T + 0.5)
+            inv_m = np.float32(1.0 / (e - j)) if e > j else np.float32(0.0)
+            g = 2 * j
+            if ANGLE_TAPS == 8:  # the eight child rows at once: one store a float
+                b0 = iu - ha
+                x0 = Gf[c, b0, g:g + m2]
+                x1 = Gf[c, b0 + 1, g:g + m2]
+                x2 = Gf[c, b0 + 2, g:g + m2]
+                x3 = Gf[c, b0 + 3, g:g + m2]
+                x4 = Gf[c, b0 + 4, g:g + m2]
+                x5 = Gf[c, b0 + 5, g:g + m2]
+                x6 = Gf[c, b0 + 6, g:g + m2]
+                x7 = Gf[c, b0 + 7, g:g + m2]
+                w0, w1, w2, w3 = tu[i0, 0], tu[i0, 1], tu[i0, 2], tu[i0, 3]
+                w4, w5, w6, w7 = tu[i0, 4], tu[i0, 5], tu[i0, 6], tu[i0, 7]
+                d0 = (tu[i1, 0] - w0) * inv_m
+                d1 = (tu[i1, 1] - w1) * inv_m
+                d2 = (tu[i1, 2] - w2) * inv_m
+                d3 = (tu[i1, 3] - w3) * inv_m
+                d4 = (tu[i1, 4] - w4) * inv_m
+                d5 = (tu[i1, 5] - w5) * inv_m
+                d6 = (tu[i1, 6] - w6) * inv_m
+                d7 = (tu[i1, 7] - w7) * inv_m
+                for q in range(m2):
+                    r = RAMP2[q]
+                    hh[q] = ((w0 + d0 * r) * x0[q] + (w1 + d1 * r) * x1[q] + (w2 + d2 * r) * x2[q]
+                             + (w3 + d3 * r) * x3[q] + (w4 + d4 * r) * x4[q] + (w5 + d5 * r) * x5[q]
+                             + (w6 + d6 * r) * x6[q] + (w7 + d7 * r) * x7[q])
+            else:
+                for q in range(m2):
+                    hh[q] = np.float32(0.0)
+                for a in range(ANGLE_TAPS):  # one child row at a time: three pointers, so it vectorises
+                    row = Gf[c, iu - ha + a, g:g + m2]
+                    wa = tu[i0, a]
+                    dwa = (tu[i1, a] - wa) * inv_m
+                    for q in range(m2):
+                        hh[q] += (wa + dwa * RAMP2[q]) * row[q]
+        else:
+            for q in range(m2):
+                hh[q] = np.float32(0.0)
+        j = e + 1
+    # pass 3: the cut interpolated in range at every point, phase restored
+    _range_pass(fr_b, n, h2, j_lo, j_hi, span, tr, sn_b, cs_b, acc2, t2)
+
+
+@njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
+def _line_from_children(Gf, c0, c1, cu0, cdu, cnu, cr0, cnr, ccen, crho, lcen, lrho, dr_child, ea, X0, X1, X2,
+                        r_line, extra, cyc_per_m, tu, tr, orow, E0, E1, E2, acc2, fr_b, v_b, sn_b, cs_b, h2, t2):
+    """Children c0 .. c1 - 1 summed along one line of points (a parent's polar line or an image
+    row) into ``orow``, each interpolated and moved from its baseband to the line's:
+    exp(j k ((|X - c_child| - rho_child) - (|X - c_line| - rho_line) + extra)), ``r_line`` =
+    |X - c_line|, ``extra`` 0 for a parent and |X - o| for the image (baseband about the origin
+    with rho 0, then undone). The range differences are formed from small ones:
+    |X - a|^2 - |X - b|^2 = (b - a).(2 (X - b) + (b - a)). The rest are the caller's scratch
+    (:func:`_line_scratch`), sliced here to the line: no allocation per line."""
+    m = X0.shape[0]
+    E0 = E0[:m]
+    E1 = E1[:m]
+    E2 = E2[:m]
+    acc2 = acc2[:2 * m]
+    fr_b = fr_b[:m]
+    v_b = v_b[:m]
+    sn_b = sn_b[:m]
+    cs_b = cs_b[:m]
+    t2 = t2[:2 * m]
+    for k in range(m):
+        E0[k] = X0[k] - lcen[0]
+        E1[k] = X1[k] - lcen[1]
+        E2[k] = X2[k] - lcen[2]
+    for k in range(2 * m):
+        acc2[k] = np.float32(0.0)
+    for c in range(c0, c1):
+        q0 = lcen[0] - ccen[c, 0]
+        q1 = lcen[1] - ccen[c, 1]
+        q2 = lcen[2] - ccen[c, 2]
+        _accumulate_child(Gf, c, cu0[c], cdu[c], cnu[c], cr0[c], cnr[c], ccen[c, 0], ccen[c, 1], ccen[c, 2], dr_child,
+                          ea[0], ea[1], ea[2], X0, X1, X2, E0, E1, E2, r_line, extra, 2.0 * q0, 2.0 * q1, 2.0 * q2,
+                          q0 * q0 + q1 * q1 + q2 * q2, crho[c] - lrho, cyc_per_m, tu, tr, acc2, fr_b, v_b, sn_b,
+                          cs_b, h2, t2)
+    for k in range(m):
+        orow[k] = complex(acc2[2 * k], acc2[2 * k + 1])
+
+
+@njit(parallel=True, nogil=True, cache=True, fastmath=True, error_model="numpy")
+def _merge_kernel(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, dr_child, factor, o, ea, er, cen, rho, u0, du, nu, r0, dr,
+                  nr, cyc_per_m, tu, tr, out, chunks):
+    """Merge ``factor`` consecutive child sub-images into each parent's polar grid."""
+    S, NU, NR = out.shape
+    n_child = Gf.shape[0]
+    n_jobs = S * NU
+    n_chunks = max(1, min(n_jobs, chunks))
+    for ch in prange(n_chunks):
+        X0, X1, X2, rl, E0, E1, E2, fr_b, v_b, sn_b, cs_b, acc2, t2, h2, zero = _line_scratch(NR, Gf.shape[2])
+        for job in range(ch * n_jobs // n_chunks, (ch + 1) * n_jobs // n_chunks):
+            s = job // NU
+            iu = job % NU
+            orow = out[s, iu]
+            for k in range(NR):  # every sample written (the grids are reused buffers, not zeroed)
+                orow[k] = 0j
+            if iu >= nu[s]:
+                continue
+            lo, top = _polar_line(o, ea, er, cen[s], r0[s], dr, nr[s], u0[s] + iu * du[s], X0, X1, X2, rl)
+            if top < lo:
+                continue
+            _line_from_children(Gf, s * factor, min(s * factor + factor, n_child), cu0, cdu, cnu, cr0, cnr, ccen,
+                                crho, cen[s], rho[s], dr_child, ea, X0[lo:top + 1], X1[lo:top + 1], X2[lo:top + 1],
+                                rl[lo:top + 1], zero[:top + 1 - lo], cyc_per_m, tu, tr, out[s, iu, lo:top + 1], E0,
+                                E1, E2, acc2, fr_b, v_b, sn_b, cs_b, h2, t2)
+
+
+@njit(parallel=True, nogil=True, cache=True, fastmath=True, error_model="numpy")
+def _final_kernel(G, cu0, cdu, cnu, cr0, cnr, ccen, crho, dr_child, o, ea, er, az, rg, cyc_per_m, tu, tr, out):
+    """Every remaining sub-image interpolated onto the output grid (table weights), its phase
+    k (|x - c| - rho_c) restored (from small differences, as the merges)."""
+    nx, ny = out.shape
+    T = tr.shape[0] - 1
+    na = tu.shape[1]
+    ha = na // 2 - 1
+    nr_taps = tr.shape[1]
+    hr = nr_taps // 2 - 1
+    for i in prange(nx):
+        for j in range(ny):
+            x0 = o[0] + az[i] * ea[0] + rg[j] * er[0]
+            x1 = o[1] + az[i] * ea[1] + rg[j] * er[1]
+            x2 = o[2] + az[i] * ea[2] + rg[j] * er[2]
+            acc_r = np.float32(0.0)
+            acc_i = np.float32(0.0)
+            for c in range(G.shape[0]):
+                e0 = x0 - ccen[c, 0]
+                e1 = x1 - ccen[c, 1]
+                e2 = x2 - ccen[c, 2]
+                rc = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
+                fu = ((e0 * ea[0] + e1 * ea[1] + e2 * ea[2]) / rc - cu0[c]) / cdu[c]
+                fr = (rc - cr0[c]) / dr_child
+                iu = int(math.floor(fu))
+                ir = int(math.floor(fr))
+                if iu < ha or ir < hr or iu + na - ha > cnu[c] or ir + nr_taps - hr > cnr[c]:
+                    continue
+                wu = tu[int((fu - iu) * T + 0.5)]
+                wr = tr[int((fr - ir) * T + 0.5)]
+                vr = np.float32(0.0)
+                vi = np.float32(0.0)
+                for a in range(na):
+                    rr = np.float32(0.0)
+                    ri = np.float32(0.0)
+                    for b in range(nr_taps):
+                        z = G[c, iu - ha + a, ir - hr + b]
+                        rr += wr[b] * z.real
+                        ri += wr[b] * z.imag
+                    vr += wu[a] * rr
+                    vi += wu[a] * ri
+                g0 = x0 - o[0]
+                g1 = x1 - o[1]
+                g2 = x2 - o[2]
+                a0 = o[0] - ccen[c, 0]
+                a1 = o[1] - ccen[c, 1]
+                a2 = o[2] - ccen[c, 2]
+                ra = math.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
+                num = g0 * (g0 + 2.0 * a0) + g1 * (g1 + 2.0 * a1) + g2 * (g2 + 2.0 * a2)
+                vr, vi = _rotate(vr, vi, (num / (rc + ra) + (ra - crho[c])) * cyc_per_m)
+                acc_r += vr
+                acc_i += vi
+            out[i, j] = complex(acc_r, acc_i)
+
+
+@njit(parallel=True, nogil=True, cache=True, fastmath=True, error_model="numpy")
+def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, dr_child, o, ea, er, az, rg, cyc_per_m, tu, tr, out, chunks):
+    """Every remaining sub-image interpolated onto the output grid row by row, separably (as a
+    merge: a row along the range axis crosses each child's range bins in order when every child
+    centre lies on the near side of the image, which the caller checks), its phase k |x - c|
+    restored (the line's baseband about the origin o with rho 0, undone by ``extra`` = |x - o|)."""
+    nx, ny = out.shape
+    n_chunks = max(1, min(nx, chunks))
+    for ch in prange(n_chunks):
+        X0, X1, X2, d, E0, E1, E2, fr_b, v_b, sn_b, cs_b, acc2, t2, h2, _z = _line_scratch(ny, Gf.shape[2])
+        for i in range(ch * nx // n_chunks, (ch + 1) * nx // n_chunks):
+            for k in range(ny):
+                X0[k] = o[0] + az[i] * ea[0] + rg[k] * er[0]
+                X1[k] = o[1] + az[i] * ea[1] + rg[k] * er[1]
+                X2[k] = o[2] + az[i] * ea[2] + rg[k] * er[2]
+                d[k] = math.sqrt(az[i] * az[i] + rg[k] * rg[k])
+            _line_from_children(Gf, 0, Gf.shape[0], cu0, cdu, cnu, cr0, cnr, ccen, crho, o, 0.0, dr_child, ea, X0, X1,
+                                X2, d, d, cyc_per_m, tu, tr, out[i], E0, E1, E2, acc2, fr_b, v_b, sn_b, cs_b, h2, t2)

@@ -1,0 +1,277 @@
+"""Range profiles for backprojection: the upsampled profiles of a block of pulses, packed for the
+kernel, and the interpolations that read them between bins (:data:`INTERPOLATIONS`: linear,
+nearest, Keys cubic), each with its mean frequency response, divided out of the spectrum before
+the profiles are formed (the largest part of an interpolation's error).
+"""
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+import scipy.fft as sfft
+from numba import njit, prange
+
+from ..constants import FFT_WORKERS, SPEED_OF_LIGHT
+from ..errors import ScenarioError
+
+WORKERS = FFT_WORKERS
+
+@njit(parallel=True, nogil=True, cache=True)
+def _pack_kernel(prof, out):
+    P, nb = prof.shape
+    for p in prange(P):
+        for b in range(nb - 1):
+            z = prof[p, b]
+            d = prof[p, b + 1] - z
+            out[p, b, 0] = z.real
+            out[p, b, 1] = z.imag
+            out[p, b, 2] = d.real
+            out[p, b, 3] = d.imag
+        z = prof[p, nb - 1]
+        out[p, nb - 1, 0] = z.real
+        out[p, nb - 1, 1] = z.imag
+        out[p, nb - 1, 2] = 0.0
+        out[p, nb - 1, 3] = 0.0
+
+
+def pack_profiles(prof: np.ndarray) -> np.ndarray:
+    """(P, Nb) complex -> (P, Nb, 4) float32 (re, im, forward differences).
+
+    Parameters
+    ----------
+    prof : complex64 (P, Nb)
+        Range profiles.
+
+    Returns
+    -------
+    float32 (P, Nb, 4)
+        Real part, imaginary part and their forward differences (0 at the last bin), for linear
+        interpolation.
+
+    Examples
+    --------
+    >>> pack_profiles(np.array([[1 + 2j, 3 + 1j]], np.complex64))[0].tolist()
+    [[1.0, 2.0, 2.0, -1.0], [3.0, 1.0, 0.0, 0.0]]
+    """
+    prof = np.ascontiguousarray(prof, np.complex64)
+    out = np.empty(prof.shape + (4,), np.float32)
+    _pack_kernel(prof, out)
+    return out
+
+
+def linear_interp_gain(m: np.ndarray, nfft: int) -> np.ndarray:
+    """Mean response of linear interpolation between profile bins to frequency offset ``m``
+    (samples from the reference frequency) in an ``nfft``-point profile: sinc^2(m / nfft).
+
+    Linear interpolation of exp(j 2 pi nu x) (nu in cycles per bin), averaged over the position
+    between two bins, multiplies it by sinc^2(nu); dividing the spectrum by it beforehand removes
+    that mean attenuation of the band's edges, the largest part of the interpolation error (its
+    remainder varies with the position: about 8 dB less error energy).
+
+    Parameters
+    ----------
+    m : int ndarray
+        Frequency sample offsets.
+    nfft : int
+        Profile length.
+
+    Returns
+    -------
+    float64 ndarray
+
+    Examples
+    --------
+    >>> float(linear_interp_gain(np.array([0]), 64)[0])
+    1.0
+    """
+    return np.sinc(np.asarray(m, np.float64) / nfft) ** 2
+
+
+def nearest_interp_gain(m: np.ndarray, nfft: int) -> np.ndarray:
+    """Mean response of nearest-bin interpolation to frequency offset ``m`` in an ``nfft``-point
+    profile: sinc(m / nfft) (the box kernel's transform).
+
+    Parameters
+    ----------
+    m : int ndarray
+        Frequency sample offsets.
+    nfft : int
+        Profile length.
+
+    Returns
+    -------
+    float64 ndarray
+
+    Examples
+    --------
+    >>> round(float(nearest_interp_gain(np.array([32]), 64)[0]), 4)
+    0.6366
+    """
+    return np.sinc(np.asarray(m, np.float64) / nfft)
+
+
+def keys_kernel(x: np.ndarray) -> np.ndarray:
+    """Keys' cubic convolution kernel (a = -1/2), support |x| < 2 bins.
+
+    Parameters
+    ----------
+    x : float ndarray
+        Offsets, bins.
+
+    Returns
+    -------
+    float64 ndarray
+
+    Examples
+    --------
+    >>> keys_kernel(np.array([0.0, 1.0, 2.0])).tolist()
+    [1.0, 0.0, 0.0]
+    """
+    a = np.abs(np.asarray(x, np.float64))
+    inner = 1.5 * a ** 3 - 2.5 * a ** 2 + 1.0
+    outer = -0.5 * a ** 3 + 2.5 * a ** 2 - 4.0 * a + 2.0
+    return np.where(a <= 1.0, inner, np.where(a < 2.0, outer, 0.0))
+
+
+#: Quadrature of the cubic kernel's transform: samples per bin over its support of 4 bins.
+_KEYS_SAMPLES = 2048
+_KEYS_X = (np.arange(4 * _KEYS_SAMPLES) + 0.5) / _KEYS_SAMPLES - 2.0
+_KEYS_W = keys_kernel(_KEYS_X) / _KEYS_SAMPLES
+
+
+def cubic_interp_gain(m: np.ndarray, nfft: int) -> np.ndarray:
+    """Mean response of Keys' cubic interpolation to frequency offset ``m`` in an ``nfft``-point
+    profile: the kernel's Fourier transform at m / nfft cycles per bin (midpoint quadrature,
+    2048 points a bin: error below 1e-7).
+
+    Parameters
+    ----------
+    m : int ndarray
+        Frequency sample offsets.
+    nfft : int
+        Profile length.
+
+    Returns
+    -------
+    float64 ndarray
+
+    Examples
+    --------
+    >>> round(float(cubic_interp_gain(np.array([0]), 64)[0]), 6)
+    1.0
+    """
+    nu = np.asarray(m, np.float64).ravel() / nfft
+    out = np.cos(2.0 * np.pi * np.outer(nu, _KEYS_X)) @ _KEYS_W
+    return out.reshape(np.shape(m))
+
+
+@dataclass(frozen=True)
+class Interpolation:
+    """How backprojection reads its upsampled range profiles between bins.
+
+    Attributes
+    ----------
+    name : str
+    code : int
+        The kernel's mode (:func:`bp_kernel`).
+    taps : int
+        Profile bins read a pixel.
+    gain : callable
+        ``gain(m, nfft)``: the interpolation's mean response to frequency offset ``m`` (samples
+        from the reference) in an ``nfft``-point profile, divided out of the spectrum beforehand
+        (the largest part of the interpolation error).
+    """
+
+    name: str
+    code: int
+    taps: int
+    gain: Callable[[np.ndarray, int], np.ndarray]
+
+
+#: Interpolations of the profiles, by name: the values of backprojection's ``interpolation``.
+INTERPOLATIONS = {i.name: i for i in (Interpolation("linear", 0, 2, linear_interp_gain),
+                                      Interpolation("nearest", 1, 1, nearest_interp_gain),
+                                      Interpolation("cubic", 2, 4, cubic_interp_gain))}
+
+
+def interpolation_of(name: str) -> Interpolation:
+    """The interpolation ``name`` (:data:`INTERPOLATIONS`).
+
+    Parameters
+    ----------
+    name : str
+
+    Returns
+    -------
+    Interpolation
+
+    Raises
+    ------
+    ScenarioError
+        For an unknown name (field ``interpolation``).
+    """
+    try:
+        return INTERPOLATIONS[name]
+    except (KeyError, TypeError):
+        raise ScenarioError("interpolation", name, f"must be one of {', '.join(INTERPOLATIONS)}") from None
+
+
+@functools.lru_cache(maxsize=32)
+def _compensation(interpolation: str, M: int, nfft: int) -> np.ndarray:
+    """The interpolation's mean response over the M frequencies of an nfft-point profile (cached:
+    every block of a collection has the same)."""
+    g = interpolation_of(interpolation).gain(np.arange(M) - M // 2, nfft)
+    g.setflags(write=False)
+    return g
+
+
+def range_profiles(ph: np.ndarray, freq: np.ndarray, upsample: int, range_window: np.ndarray,
+                   linear_compensation: bool = False, interpolation: str = "linear"):
+    """Upsampled range profiles of a phase-history block.
+
+    Returns
+    -------
+    profiles : complex64 (P, Nfft)
+    r0 : float
+        Differential range of bin 0, m.
+    dr : float
+        Bin spacing, m.
+    f_c : float
+        Reference frequency (sample M//2), Hz.
+
+    Parameters
+    ----------
+    ph : complex (P, M)
+        Phase history.
+    freq : float64 (M,)
+        Frequencies, Hz, increasing and uniform.
+    upsample : int
+        FFT length over M.
+    range_window : float (M,)
+        Amplitude window over the frequencies.
+    linear_compensation : bool
+        Divide the spectrum by the interpolation's mean response (:attr:`Interpolation.gain`;
+        :func:`linear_interp_gain` for linear), for profiles read by that interpolation.
+    interpolation : {"linear", "nearest", "cubic"}
+        How the profiles will be read (:data:`INTERPOLATIONS`).
+    """
+    P, M = ph.shape
+    df = float(freq[1] - freq[0])
+    nfft = sfft.next_fast_len(int(M * upsample))
+    h = M // 2
+    # sample m goes to bin k = (m - h) mod nfft; the ramp exp(-j 2 pi k s / nfft), s = nfft // 2,
+    # does the fftshift inside the transform (no scatter with an index array, no shifted copy)
+    k = (np.arange(M) - h) % nfft
+    wr = np.asarray(range_window, np.float64)
+    if linear_compensation:
+        wr = wr / _compensation(interpolation, M, nfft)
+    ramp = (np.exp(-2j * np.pi * ((k * (nfft // 2)) % nfft) / nfft) * wr).astype(np.complex64)
+    buf = np.zeros((P, nfft), np.complex64)
+    np.multiply(ph[:, h:], ramp[h:], out=buf[:, :M - h])
+    np.multiply(ph[:, :h], ramp[:h], out=buf[:, nfft - h:])
+    prof = sfft.ifft(buf, axis=1, workers=WORKERS, norm="forward", overwrite_x=True)
+    dr = SPEED_OF_LIGHT / (2.0 * df * nfft)
+    r0 = -(nfft // 2) * dr
+    return prof.astype(np.complex64, copy=False), r0, dr, float(freq[M // 2])
