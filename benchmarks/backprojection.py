@@ -31,7 +31,7 @@ def numpy_backprojection(ph, plane, az, rg, upsample=8):
 
 
 def bench_backprojection(n_pix=512, n_pulses=512):
-    from salkit.focus.backprojection import backproject
+    from salkit.focus.bp_kernel import backproject
     from salkit.geometry.collection import grid_axes, plane_from
     sc, ph = spotlight_problem(n_pix, n_pulses)
     g = sc.processing.grid

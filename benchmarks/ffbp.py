@@ -16,7 +16,7 @@ def bench_ffbp(sizes=((512, None, 3), (1024, 256, 3), (4096, 128, 2))):
     extrapolated to the image (the range profiles, a fixed cost, counted once), FFBP on the whole
     image; both the best of the same number of runs (the VM's spread is +-15 %); the image error
     energy on the block."""
-    from salkit.focus.backprojection import backproject
+    from salkit.focus.bp_kernel import backproject
     from salkit.focus.ffbp import ffbp
     out = {}
     for n, rows, repeat in sizes:

@@ -12,7 +12,7 @@ from common import best_of, ffbp_problem
 def bench_ffbp_knobs(n=1024):
     """The accuracy knobs: image error against direct BP, and time (best of 3), over the polar
     oversampling (angle x range) and the leaf size (pulses per first-level sub-image)."""
-    from salkit.focus.backprojection import backproject
+    from salkit.focus.bp_kernel import backproject
     from salkit.focus.ffbp import LEAF_PULSES, OVERSAMPLE_ANGLE, OVERSAMPLE_RANGE, ffbp
     from salkit.focus.formers import ImageGrid
     ph, f, pos, ref, grid = ffbp_problem(n)

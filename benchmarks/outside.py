@@ -23,7 +23,7 @@ def bench_outside(n_pulses=500, n_pix=256):
     from salkit.autofocus.pulses import as_dataset
     from salkit.autofocus.sharpness import pulse_sharpness
     from salkit.focus import focus
-    from salkit.focus.backprojection import pulse_contributions
+    from salkit.focus.bp_kernel import pulse_contributions
     from salkit.geometry.collection import grid_axes, plane_from
     from salkit.io import check_cphd, read_cphd, read_gotcha, write_cphd, write_dataset, write_gotcha
     out = {}

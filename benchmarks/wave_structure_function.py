@@ -15,7 +15,8 @@ def bench_wave_structure_function(count=256):
     import math as _m
 
     from salkit.atmosphere import r0_from_cn2
-    from salkit.atmosphere.waveoptics import plan_spherical, spherical_wave_ensemble, wave_structure_function
+    from salkit.atmosphere.scintillation import wave_structure_function
+    from salkit.atmosphere.spherical import plan_spherical, spherical_wave_ensemble
     lam, L = 1e-6, 1000.0
     cn2 = 0.2 / (0.5 * (2 * _m.pi / lam) ** (7 / 6) * L ** (11 / 6))
     s = plan_spherical(lam, L, cn2, receiver=0.16)

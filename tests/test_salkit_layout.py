@@ -110,8 +110,8 @@ DEFERRED_IMPORTS = {
     ("io/sicd.py", "sarkit"): "as io/cphd.py",
     ("io/cphd.py", "lxml"): "an extension module: lazy_loader cannot defer it",
     ("io/sicd.py", "lxml"): "as io/cphd.py",
-    ("io/datasets.py", "h5py"): "only to name a corrupt variable, after a read failed",
-    ("simulate/scene.py", "matplotlib"): "only for image-file scenes",
+    ("io/reading.py", "h5py"): "only to name a corrupt variable, after a read failed",
+    ("simulate/objects.py", "matplotlib"): "only for image-file scenes",
 }
 
 

@@ -37,6 +37,8 @@ def test_sweep_writes_a_complete_folder(tmp_path, scen):
     (["--vary", "waveform.bandwidth=lin:1e9:2e9:0"], "positive integer"),
     (["--vary", "waveform.prf=10,20"], "none can run"),
     (["--vary", "waveform.bandwidth=1e9,2e9", "--realisations", "0"], "--realisations"),
+    (["--vary", "waveform.bandwidth=1e9,2e9", "--metric", "bogus_rad"], "--metric = 'bogus_rad': is not a metric"),
+    (["--vary", "waveform.bandwidth=1e9,2e9", "--metric", "irw_rnge_m"], "the nearest: 'irw_range_m'"),
 ])
 def test_bad_sweeps_exit_2_before_any_work(tmp_path, scen, args, needle):
     r = salkit("sweep", scen, "--out", tmp_path / "o", "--workers", "0", *args)

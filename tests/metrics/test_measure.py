@@ -1,23 +1,35 @@
-import math
-
+"""Measuring a salkit image (:func:`salkit.metrics.measure`): the IPR against theory, and the two
+phases under their two names: the image's phase at its peak, and the target's phase (the
+deterministic phase restored at the true position), which recovers the reflectivity's."""
 import numpy as np
 import pytest
 
-from salkit.metrics import analyse_point, contrast, entropy, ipr_1d
-from salkit.metrics.pointtarget import window_ipr
+from salkit import focus, simulate
+from salkit.metrics import measure
+from salkit.metrics.table import undeclared
+from salkit.params import parse_scenario
+
+from ..conftest import SPOT, merge
 
 
+@pytest.fixture(scope="module")
+def image():
+    sc = parse_scenario(merge(SPOT, scene={"points": [{"x": 0.0, "y": 0.0, "phase": 1.1}]}))
+    return focus(simulate(sc), scenario=sc)
 
-@pytest.mark.parametrize("carrier", [(0.0, 0.0), (0.31, -0.22), (0.45, 0.4)])
-def test_2d_analysis_with_carrier_and_subpixel_offset(carrier):
-    d, rho = 0.015, 0.02
-    x = (np.arange(128) - 64) * d
-    x0, y0 = 0.0037, -0.0051
-    X, Y = np.meshgrid(x, x, indexing="ij")
-    img = np.sinc((X - x0) / rho) * np.sinc((Y - y0) / rho) * np.exp(
-        2j * np.pi * (carrier[0] * (X - x0) / d + carrier[1] * (Y - y0) / d) + 0.9j)
-    m = analyse_point(img, x, x, rho, rho)
-    assert m["irw_azimuth_m"] == pytest.approx(0.886 * rho, rel=0.005)
-    assert m["peak_azimuth_m"] == pytest.approx(x0, abs=rho / 100)
-    assert m["peak_range_m"] == pytest.approx(y0, abs=rho / 100)
-    assert m["pslr_range_db"] == pytest.approx(-13.26, abs=0.1)
+
+def test_the_target_phase_recovers_the_reflectivity_and_the_image_phase_is_the_image(image):
+    m = measure(image, reflectivity_phase=1.1)
+    assert abs(m["peak_phase_error_rad"]) < 0.05 and abs(np.angle(np.exp(1j * (m["peak_phase_rad"] - 1.1)))) < 0.05
+    img = image["image"].values
+    i, j = np.unravel_index(np.abs(img).argmax(), img.shape)
+    # the image's own phase at the peak: the brightest sample's, to the sub-pixel move of the peak
+    assert abs(np.angle(np.exp(1j * (m["image_phase_at_peak_rad"] - np.angle(img[i, j]))))) < 0.5
+    assert m["irw_range_m"] == pytest.approx(m["irw_range_theory_m"], rel=0.05)
+    assert undeclared(m) == []
+
+
+def test_without_the_truth_there_is_no_target_phase(image):
+    bare = image.drop_vars([v for v in image.data_vars if v.startswith("target_")])
+    m = measure(bare, reflectivity_phase=1.1)
+    assert "image_phase_at_peak_rad" in m and "peak_phase_rad" not in m and "peak_phase_error_rad" not in m

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from salkit.io.datasets import ImageFileWriter, open_dataset
+from salkit.io.reading import open_dataset
+from salkit.io.writing import ImageFileWriter
 from salkit.metrics import brightest_window, measure
 
 

@@ -33,5 +33,5 @@ def test_blocks_from_a_results_folder(tmp_path):
         (tmp_path / name / "metrics.json").write_text(json.dumps(m))
         (tmp_path / name / "image.nc").write_bytes(b"")
     b = blocks(tmp_path)
-    assert set(b) == {"spotlight_caption", "downlooking_caption", "files"}
+    assert set(b) == {"spotlight_caption", "downlooking_caption", "files", "formers"}
     assert "| `spotlight_points` | `image.nc` |" in b["files"]

@@ -17,7 +17,7 @@ import xarray as xr
 from ..choices import PLANES, check_choice
 from ..errors import ScenarioError
 from ..focus import PhaseHistory, default_grid, grid_of, phase_history
-from ..focus.backprojection import pulse_contributions
+from ..focus.bp_kernel import pulse_contributions
 from ..focus.profiles import range_profiles
 from ..focus.pfa import illuminated_extent
 from ..geometry.collection import grid_axes, plane_from

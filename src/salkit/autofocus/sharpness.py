@@ -105,7 +105,7 @@ def pulse_sharpness(contributions: np.ndarray, max_sweeps: int = 10, tol: float 
     Parameters
     ----------
     contributions : complex (P, K)
-        b_n over K pixels (:func:`salkit.focus.backprojection.pulse_contributions`).
+        b_n over K pixels (:func:`salkit.focus.bp_kernel.pulse_contributions`).
     max_sweeps : int
         Coordinate-ascent sweeps over all pulses at most.
     tol : float

@@ -58,7 +58,7 @@ def _scan(ds) -> dict:
     sample of the image or signal is found on the way."""
     import numpy as np
 
-    from ..io.datasets import lazy_reads
+    from ..io.reading import lazy_reads
     from ..metrics.image import brightest_pixel
     from ..resources import size_text
     found = {}
@@ -220,7 +220,7 @@ def examples(copy_to: Optional[Path] = typer.Option(None, "--copy", metavar="DIR
             desc = "(unreadable)"
         out.print(f"[bold]{f.relative_to(d).as_posix()}[/]  {' '.join(str(desc).split())}", highlight=False)
     if copy_to is not None:
-        from ..io.datasets import write_text_atomic
+        from ..io.writing import write_text_atomic
         if copy_to.exists() and not copy_to.is_dir():
             from ..errors import ScenarioError
             raise ScenarioError("--copy", str(copy_to), "names an existing file; give a folder")

@@ -45,10 +45,11 @@ def propagate(wave: str = typer.Option("plane", "--wave", metavar="KIND", help="
               overwrite: bool = typer.Option(False, "--overwrite", help="replace a non-empty --out once the new run is complete")):
     """Propagate a wave through turbulence (split-step wave optics): the received field and its
     scintillation against theory."""
-    from ..atmosphere.waveoptics import propagation_result
+    from ..atmosphere.propagation import propagation_result
+    from ..metrics.table import warn_undeclared
     from ..errors import ScenarioError
     from ..io import write_dataset
-    from ..io.datasets import write_json_atomic
+    from ..io.writing import write_json_atomic
     from ..io.runfolder import RunFolder
     for name, v, ok, rule in (("--wavelength", wavelength, 0 < wavelength < 1e-3, "must be in (0, 1 mm)"),
                               ("--cn2", cn2, 0 <= cn2 < 1e-10, "must be in [0, 1e-10) m^(-2/3)"),
@@ -63,6 +64,7 @@ def propagate(wave: str = typer.Option("plane", "--wave", metavar="KIND", help="
             raise ScenarioError(name, v, rule)
     ds, m = propagation_result(wave, wavelength, cn2, distance, count, seed=seed, layers=layers,
                                inner_scale=inner_scale)
+    warn_undeclared(m, "salkit propagate")
     with RunFolder(out_dir, overwrite=overwrite) as tmp:
         write_dataset(ds, tmp / "field.nc")
         write_json_atomic(tmp / "metrics.json", m)

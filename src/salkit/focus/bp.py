@@ -1,7 +1,7 @@
 """Backprojection formers: ``bp`` and its variants, time-domain backprojection for any trajectory.
 
 Spotlight collections are backprojected pulse by pulse by the kernel
-(:func:`salkit.focus.backprojection.backproject`) with the window over the pulses and the range
+(:func:`salkit.focus.bp_kernel.backproject`) with the window over the pulses and the range
 samples, the pulses in blocks when a job is cut to fit memory (:mod:`salkit.focus.tiles`);
 stripmap collections use full-beam backprojection with Doppler-domain beam equalisation
 (:func:`salkit.focus.stripmap_bp.stripmap_backprojection`), which keeps the response
@@ -19,7 +19,7 @@ import scipy.fft as sfft
 
 from ..signals.windows import Window
 from ..tolerances import BP_UPSAMPLE
-from .backprojection import backproject, profile_block
+from .bp_kernel import backproject, profile_block
 from .formers import Accuracy, ImageGrid, ImageResult, Sizes, register_former
 from .phasehistory import PhaseHistory
 from .profiles import interpolation_of
@@ -158,7 +158,7 @@ def backprojection_former(interpolation: str):
 
 def bp_memory(sizes: Sizes) -> float:
     """Bytes backprojection adds: one kernel call's upsampled range profiles (bounded by the call's
-    pulses, :func:`salkit.focus.backprojection.profile_block`).
+    pulses, :func:`salkit.focus.bp_kernel.profile_block`).
 
     Parameters
     ----------

@@ -19,7 +19,9 @@ from ..choices import ACCURACY, PLANES, check_choice
 from ..errors import DataFileError, ResourceError, ScenarioError
 from ..geometry.collection import truth_positions
 from ..geometry.geodesy import image_geolocation
-from ..io.datasets import ImageFileWriter, lazy_reads, make_image_dataset, open_dataset
+from ..io.datasets import make_image_dataset
+from ..io.reading import lazy_reads, open_dataset
+from ..io.writing import ImageFileWriter
 from ..metrics.pointtarget import window_ipr
 from ..params.models import Grid, Processing, Scenario
 from ..params.scenario import stored_scenario

@@ -19,7 +19,7 @@ import numpy as np
 import scipy.fft as sfft
 
 from ..geometry.collection import beam_gain, beam_gain_table, two_way_3db_sin
-from .backprojection import backproject
+from .bp_kernel import backproject
 from ..constants import FFT_WORKERS
 from ..tolerances import BP_UPSAMPLE
 

@@ -25,7 +25,7 @@ import lazy_loader as _lazy
 import numpy as np
 
 from ..errors import DataFileError, ResourceError, ScenarioError
-from ..io.datasets import lazy_reads
+from ..io.reading import lazy_reads
 from ..io.formats import read_phase_data
 from ..resources import in_dask_task, size_text as gib, task_numba_threads
 from ..signals.windows import Window
@@ -39,7 +39,7 @@ _dask_distributed = _lazy.load("dask.distributed", suppress_warning=True)
 MIN_TILE = 32
 #: Smallest pulse block (a multiple of backprojection's kernel block of 32 pulses).
 MIN_BLOCK = 64
-#: Pulses per kernel call of :func:`salkit.focus.backprojection.backproject` (blocks are multiples).
+#: Pulses per kernel call of :func:`salkit.focus.bp_kernel.backproject` (blocks are multiples).
 KERNEL_BLOCK = 32
 
 

@@ -7,8 +7,9 @@ Modules: :mod:`~salkit.io.datasets` (salkit datasets, atomic writes), :mod:`~sal
 :mod:`~salkit.io.runfolder` (run folders complete or absent).
 """
 from .cphd import check_cphd, read_cphd, write_cphd
-from .datasets import (ChunkedFileWriter, ImageFileWriter, describe, input_file, make_image_dataset, make_raw_dataset, open_dataset, read_image,
-                       read_raw, write_dataset, write_json_atomic, write_text_atomic)
+from .datasets import make_image_dataset, make_raw_dataset
+from .reading import describe, input_file, open_dataset, read_image, read_raw
+from .writing import ChunkedFileWriter, ImageFileWriter, write_dataset, write_json_atomic, write_text_atomic
 from .formats import PHASE_SUFFIXES, read_phase_data
 from .gotcha import read_gotcha, write_gotcha
 from .ingest import normalise_phase_history, regularise_axis

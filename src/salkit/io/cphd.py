@@ -22,7 +22,8 @@ from xarray.core.indexing import IndexingSupport, LazilyIndexedArray, explicit_i
 
 from ..constants import SPEED_OF_LIGHT
 from ..errors import DataFileError
-from .datasets import atomic_path, input_file
+from .reading import input_file
+from .writing import atomic_path
 from .ingest import normalise_phase_history
 
 NS = "http://api.nsgreg.nga.mil/schema/cphd/1.0.1"

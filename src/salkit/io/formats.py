@@ -7,7 +7,7 @@ import xarray as _xr
 
 from ..errors import DataFileError as _E
 from .cphd import read_cphd
-from .datasets import read_raw, scenario_hint
+from .reading import read_raw, scenario_hint
 from .gotcha import read_gotcha
 
 PHASE_SUFFIXES = {".nc": "NetCDF", ".h5": "NetCDF", ".cphd": "CPHD", ".mat": "GOTCHA .mat"}

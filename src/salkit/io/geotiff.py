@@ -14,7 +14,7 @@ from affine import Affine
 from pyproj import CRS, Transformer
 
 from ..errors import DataFileError
-from .datasets import atomic_path
+from .writing import atomic_path
 
 #: Largest misfit (pixels) of the fourth corner to the affine map the other three define: beyond it
 #: the image is not a plane map of the ground (a slant plane, a large or curved scene).

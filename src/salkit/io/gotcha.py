@@ -18,7 +18,8 @@ import xarray as xr
 from ..errors import DataFileError
 import lazy_loader as _lazy
 from .ingest import normalise_phase_history
-from .datasets import atomic_path, input_file
+from .reading import input_file
+from .writing import atomic_path
 _scipy_io = _lazy.load("scipy.io", suppress_warning=True)
 
 #: Accepted spellings of each field (first found wins), lower case.

@@ -6,7 +6,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from .datasets import write_dataset
+from .writing import write_dataset
 from .. import __version__
 
 

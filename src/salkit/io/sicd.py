@@ -21,9 +21,9 @@ import xarray as xr
 
 from ..constants import SPEED_OF_LIGHT
 from ..errors import DataFileError
-from .datasets import input_file
+from .reading import input_file
 from .cphd import DEFAULT_ORIGIN, _f, _xyz, local_frame, run_checker
-from .datasets import atomic_path
+from .writing import atomic_path
 
 NS = "urn:SICD:1.3.0"
 WINDOWS = {"none": "UNIFORM", "hamming": "HAMMING", "taylor": "TAYLOR"}

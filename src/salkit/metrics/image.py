@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..io.datasets import blocks
+from ..io.reading import blocks
 
 
 ROWS_A_BLOCK_BYTES = 4 << 20  # an image is visited a block of about this many bytes of pixels at a time

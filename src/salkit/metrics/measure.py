@@ -75,7 +75,10 @@ def measure(image: xr.Dataset, truth: np.ndarray | None = None, reflectivity_pha
     -------
     dict
         Flat numbers: ``irw_range_m``, ``irw_azimuth_m``, ``pslr_*_db``, ``islr_*_db``,
-        ``peak_offset_*_m`` and each ``*_theory_*`` counterpart, plus entropy and contrast.
+        ``peak_offset_*_m`` and each ``*_theory_*`` counterpart, plus entropy and contrast; the two
+        phases (:mod:`salkit.metrics.table`): ``image_phase_at_peak_rad``, the image's phase at its
+        upsampled peak, and, given the truth, ``peak_phase_rad``, the target's phase (the image's
+        deterministic phase restored at the true position) and ``peak_phase_error_rad``.
     """
     img = np.asarray(image["image"].values)
     az = np.asarray(image["azimuth"].values, dtype=np.float64)
@@ -108,7 +111,7 @@ def measure(image: xr.Dataset, truth: np.ndarray | None = None, reflectivity_pha
     if reflectivity_phase is not None and not np.isscalar(reflectivity_phase):
         reflectivity_phase = (float(np.asarray(reflectivity_phase)[out["target_index"]])
                               if "target_index" in out else None)
-    if reflectivity_phase is not None:
+    if reflectivity_phase is not None and "peak_phase_rad" in out:
         out["peak_phase_error_rad"] = float(wrap(out["peak_phase_rad"] - reflectivity_phase))
         out["peak_phase_error_theory_rad"] = 0.0
     for ax in ("range", "azimuth"):

@@ -240,7 +240,7 @@ def analyse_point(image: np.ndarray, az: np.ndarray, rg: np.ndarray, res_az: flo
         "peak_azimuth_m": float(a_org + pa * Dx),
         "peak_range_m": float(r_org + pr * Dy),
         "peak_amplitude": float(np.abs(val)),
-        "peak_phase_rad": phase,
+        "image_phase_at_peak_rad": phase,
         "peak_phase_flat_rad": flat_phase,
         "irw_azimuth_m": m_az["irw"], "irw_range_m": m_rg["irw"],
         "pslr_azimuth_db": m_az["pslr_db"], "pslr_range_db": m_rg["pslr_db"],

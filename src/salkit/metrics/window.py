@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import xarray as xr
 
-from ..io.datasets import lazy_reads
+from ..io.reading import lazy_reads
 from .image import scan
 from .pointtarget import analysis_extent
 

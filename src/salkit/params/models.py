@@ -17,7 +17,7 @@ from pydantic import Discriminator, Field, Tag, field_validator, model_validator
 from ..choices import (ACCURACY, ATMOSPHERE_MODELS, AUTOFOCUS_METHODS, CHIRP_CORRECTIONS, PGA_KERNELS,
                        PLANES, STACK_MODES, WINDOWS)
 from ..constants import SPEED_OF_LIGHT
-from ..registry import FORMERS
+from ..registry import FORMERS, MATERIALS, OBJECT_KINDS, PATTERNS
 from ..tolerances import BP_UPSAMPLE
 from .base import FieldProblem, PhaseError, _Frozen
 from .downlooking import DownlookingExperiment
@@ -184,9 +184,12 @@ class PointTarget(_Frozen):
 class ExtendedScene(_Frozen):
     """Distributed scene sampled by scatterers on a regular ground grid."""
 
-    kind: Literal["pattern", "image"] = "pattern"
-    pattern: Literal["letter_I", "bars", "checker", "disk", "uniform", "satellite"] = "letter_I"
+    kind: str = Field(default="pattern", description="a declared scene object kind (salkit.registry.OBJECT_KINDS): "
+                      "pattern, image, ...")
+    pattern: str = Field(default="letter_I", description="a declared pattern (salkit.registry.PATTERNS) for kind=pattern")
     file: Optional[str] = Field(default=None, description="image file (PNG/NPY) for kind=image")
+    material: Optional[str] = Field(default=None, description=(
+        "a declared material (salkit.registry.MATERIALS): diffuse (speckle) or smooth; default from speckle"))
     extent: tuple[float, float] = Field(description="size along x (azimuth) and y (ground range), m (each <= 1e5)")
     spacing: float = Field(gt=0, description="scatterer spacing, m (below the resolution cell)")
     speckle: bool = True
@@ -200,10 +203,43 @@ class ExtendedScene(_Frozen):
             raise ValueError(f"extent {v} must be positive and at most 1e5 m in both axes")
         return v
 
+    @model_validator(mode="before")
+    @classmethod
+    def _speckle_of_material(cls, data):
+        # a material alone says whether the scene is speckled (speckle is derived, not a default)
+        if isinstance(data, dict) and data.get("material") in MATERIALS and "speckle" not in data:
+            data = {**data, "speckle": MATERIALS.get(data["material"]).speckle}
+        return data
+
+    @field_validator("kind")
+    @classmethod
+    def _declared_kind(cls, v: str) -> str:
+        if v not in OBJECT_KINDS:
+            raise ValueError(str(OBJECT_KINDS.unknown(v).constraint))
+        return v
+
+    @field_validator("pattern")
+    @classmethod
+    def _declared_pattern(cls, v: str) -> str:
+        if v not in PATTERNS:
+            raise ValueError(str(PATTERNS.unknown(v).constraint))
+        return v
+
+    @field_validator("material")
+    @classmethod
+    def _declared_material(cls, v: Optional[str]) -> Optional[str]:
+        if v is not None and v not in MATERIALS:
+            raise ValueError(str(MATERIALS.unknown(v).constraint))
+        return v
+
     @model_validator(mode="after")
     def _file(self) -> "ExtendedScene":
-        if self.kind == "image" and not self.file:
-            raise ValueError("kind=image needs a file")
+        for need in OBJECT_KINDS.get(self.kind).needs:  # what the kind declares it reads
+            if not getattr(self, need, None):
+                raise ValueError(f"kind={self.kind} needs a {need}")
+        if self.material is not None and MATERIALS.get(self.material).speckle != self.speckle:
+            raise FieldProblem("material", self.material, f"is {'' if MATERIALS.get(self.material).speckle else 'not '}"
+                               f"speckled, but speckle = {self.speckle}: give one of the two")
         n = (self.extent[0] / self.spacing) * (self.extent[1] / self.spacing)
         if n > 5e7:
             raise ValueError(f"extent/spacing gives {n:.3g} scatterers (> 5e7); increase spacing")

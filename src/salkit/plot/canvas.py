@@ -11,7 +11,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.ticker  # noqa: E402
 import numpy as np
 
-from ..io.datasets import atomic_path, blocks
+from ..io.reading import blocks
+from ..io.writing import atomic_path
 
 PREVIEW_PIXELS = 512  # an image figure shows at most this many pixels a side (about what its PNG shows)
 

@@ -15,6 +15,7 @@ from pathlib import Path
 
 from ..errors import DataFileError
 from ..focus.formers import former_table
+from ..metrics.table import metrics_table
 
 #: Figures of a results folder copied into docs/images (source, destination name).
 FIGURES = (("spotlight_points/image.png", "spotlight_points_image.png"),
@@ -124,6 +125,17 @@ def blocks(results: str | Path) -> dict:
     return {"spotlight_caption": spotlight_caption(_metrics(results, "spotlight_points")),
             "downlooking_caption": downlooking_caption(_metrics(results, "downlooking_3d")),
             "files": files_table(results), "formers": former_table()}
+
+
+def declared_blocks() -> dict:
+    """docs/metrics.md's generated block: the table of metrics, from the declarations.
+
+    Returns
+    -------
+    dict
+        Block name -> text.
+    """
+    return {"metrics": metrics_table()}
 
 
 def read_blocks(text: str) -> dict:

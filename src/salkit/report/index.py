@@ -6,7 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from .. import __version__
-from ..io.datasets import write_text_atomic
+from ..io.writing import write_text_atomic
 from .judge import VERDICTS, headline, passed, verdict
 from .pages import environment
 

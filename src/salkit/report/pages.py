@@ -10,7 +10,7 @@ from pathlib import Path
 from jinja2 import Environment, PackageLoader, select_autoescape
 
 from .. import __version__
-from ..io.datasets import write_text_atomic
+from ..io.writing import write_text_atomic
 from ..io.runfolder import is_staging
 from ..systems.result import RunResult
 from ..units import display

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..io.datasets import write_dataset, write_json_atomic, write_text_atomic
+from ..io.writing import write_dataset, write_json_atomic, write_text_atomic
 from ..params.scenario import dump_scenario
 from ..systems import run_workflow
 from ..systems.result import Progress, RunResult

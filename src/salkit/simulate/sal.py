@@ -11,7 +11,8 @@ from ..atmosphere.beam import two_way_gains
 from ..geometry.collection import build_collection
 from ..geometry.sampling import check_sampling, delay_spread, n_fast_samples, resolution_theory
 from ..errors import ResourceError
-from ..io.datasets import ChunkedFileWriter, make_raw_dataset
+from ..io.datasets import make_raw_dataset
+from ..io.writing import ChunkedFileWriter
 from ..params.models import Scenario
 from ..resources import available_memory, check_memory, size_text
 from ..signals.chirp import reference_beat

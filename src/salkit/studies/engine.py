@@ -21,7 +21,7 @@ import yaml
 
 from .. import __version__
 from ..errors import SalkitError
-from ..io.datasets import write_dataset, write_json_atomic
+from ..io.writing import write_dataset, write_json_atomic
 from ..params.scenario import dump_scenario, parse_scenario
 from ..resources import task_numba_threads
 from ..units import theory_name, unit_of

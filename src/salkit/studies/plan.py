@@ -10,6 +10,7 @@ import numpy as np
 import yaml
 
 from ..errors import SalkitError, ScenarioError
+from ..metrics.table import check_metric
 from ..params.scenario import apply_overrides, dump_scenario, parse_scenario
 
 
@@ -160,8 +161,10 @@ def make_plan(scenario, axes, *, zipped: bool = False, realisations: int = 1, me
     Raises
     ------
     ScenarioError
-        A misspelt field, or one that cannot take the values.
+        A misspelt field, or one that cannot take the values; a metric not in the table of metrics.
     """
+    for m in metrics:  # each a metric salkit measures (salkit.metrics.table), before any work
+        check_metric(m, "metrics")
     base = yaml.safe_load(dump_scenario(scenario))
     for a in axes:  # a misspelt field is refused before any work, naming it
         try:

@@ -10,6 +10,7 @@ import numpy as np
 import yaml
 
 from ..errors import ScenarioError
+from ..metrics.table import check_metric
 from ..params.scenario import did_you_mean
 
 #: Most points an axis may hold (a typo such as lin:0:1:1e6 is refused before any work).
@@ -234,6 +235,8 @@ def read_sweep_file(path) -> SweepFile:
     if not isinstance(vary, dict) or not vary:
         raise ScenarioError(f"{p.name}: vary", vary, "must map fields to SPECs")
     items = tuple(f"{k}={v if isinstance(v, str) else ','.join(map(str, v))}" for k, v in vary.items())
+    for m in data.get("metrics") or ():  # each a metric salkit measures (the table of metrics)
+        check_metric(m, f"{p.name}: metrics")
     base = Path(data["scenario"])
     return SweepFile(base if base.is_absolute() else p.parent / base, items, bool(data.get("zip", False)),
                      int(data.get("realisations", 1)), tuple(data.get("metrics") or ()),
@@ -263,8 +266,10 @@ def resolve_request(scenario, vary=(), sets=(), zipped: bool = False, realisatio
     Raises
     ------
     ScenarioError
-        When nothing varies.
+        When nothing varies, or a metric is not in the table of metrics (with the nearest name).
     """
+    for m in metrics:
+        check_metric(m, "--metric")
     path = Path(scenario)
     if path.suffix.lower() in (".yaml", ".yml") and path.is_file() and is_sweep_file(path):
         sf = read_sweep_file(path)

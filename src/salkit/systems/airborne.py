@@ -15,6 +15,7 @@ from ..errors import ScenarioError
 from ..focus import focus, focus_to_file, image_fits
 from ..geometry.collection import build_collection
 from ..geometry.sampling import check_sampling
+from ..metrics.table import warn_undeclared
 from ..metrics import brightest_window, measure, snr_against_truth
 from ..params.models import Processing, Scenario
 from ..params.scenario import dump_scenario, stored_scenario
@@ -308,6 +309,7 @@ def focus_file(raw: xr.Dataset, processing: Processing | None = None, progress: 
         window, moments = brightest_window(image)
         metrics, details = analyse_image(window, scenario, moments=moments)
         metrics.update(focus_s=t_focus, image_out_of_core=1)
+        warn_undeclared(metrics, "focusing a file")
         return RunResult("airborne", scenario.name if scenario else "external data",
                          scenario.description if scenario else "",
                          raw.attrs.get("scenario", "# no scenario stored in the raw file\n"), metrics, data,
@@ -318,6 +320,7 @@ def focus_file(raw: xr.Dataset, processing: Processing | None = None, progress: 
     metrics, details = analyse_image(image, scenario)
     metrics.update(af_metrics)
     metrics["focus_s"] = t_focus
+    warn_undeclared(metrics, "focusing a file")
     return RunResult("airborne", scenario.name if scenario else "external data",
                      scenario.description if scenario else "",
                      raw.attrs.get("scenario", "# no scenario stored in the raw file\n"), metrics, data,

@@ -2,6 +2,7 @@
 runs only the one a scenario names."""
 import importlib
 
+from ..metrics.table import warn_undeclared
 from .result import RunResult
 
 
@@ -22,7 +23,9 @@ def run_workflow(scenario, out_dir=None, progress=None) -> RunResult:
     """
 
     module = importlib.import_module(f"{__package__}.{WORKFLOWS[scenario.kind]}")  # only the one that runs
-    return module.run(scenario, out_dir, progress=progress)
+    result = module.run(scenario, out_dir, progress=progress)
+    warn_undeclared(result.metrics, f"the {scenario.kind} workflow")  # every metric is in the table
+    return result
 
 
 #: scenario kind -> the module of ``salkit.systems`` whose ``run`` is its workflow.

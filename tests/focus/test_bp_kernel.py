@@ -4,7 +4,7 @@ import numpy as np
 
 from salkit import simulate
 from salkit.focus import phase_history
-from salkit.focus.backprojection import backproject, pulse_contributions
+from salkit.focus.bp_kernel import backproject, pulse_contributions
 from salkit.geometry.collection import grid_axes, plane_from
 from salkit.params import parse_scenario
 
