@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import copy
 import os
+import sys
 from pathlib import Path
 
 import pytest
@@ -19,6 +20,11 @@ def pytest_configure(config):
         share = str(max(1, (os.cpu_count() or 1) // workers))
         os.environ["NUMBA_NUM_THREADS"] = share
         os.environ["OMP_NUM_THREADS"] = share
+        if "numba" in sys.modules:  # imported before this hook (by a conftest): read the share now, before
+            # its threads start; else a kernel loaded from the cache could start them at a thread a core and
+            # the next kernel compiled would be refused ("Cannot set NUMBA_NUM_THREADS ... once the
+            # threads have been launched")
+            sys.modules["numba"].core.config.reload_config()
 
 
 #: The longest test files (about a minute or more each on 2 cores), run first: under xdist's

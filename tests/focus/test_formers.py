@@ -47,7 +47,7 @@ def bp_nearest():
 def test_the_built_in_formers_are_declared():
     assert set(FORMERS.names()) >= {"bp", "ffbp", "pfa", "omegak", "exact"}
     assert FORMERS["omegak"].tracks == "straight" and FORMERS["omegak"].phase_reference == "track"
-    assert [n for n, s in FORMERS.items() if s.blocks is not None] == ["bp", "bp_cubic", "ffbp"]
+    assert [n for n, s in FORMERS.items() if s.blocks is not None] == ["bp", "bp_cubic", "ffbp"]  # module order
 
 
 def test_unknown_names_are_refused_with_the_nearest():

@@ -12,9 +12,9 @@ its memory, its accuracy settings and the error each promises against the exact 
 declaration (:class:`FormerSpec`, in :data:`salkit.registry.FORMERS`) is what the rest of salkit
 reads: the scenario check of ``processing.algorithm``, the sampling preflight, the memory plan and
 the tiles (:mod:`salkit.focus.tiles`), the pipeline, the command line's help and the README's table
-of formers. A new former is one module that declares it (imported by
-:mod:`salkit.focus.pipeline` for the built-in ones; any module of the user's for others) and its
-test; docs/architecture.md has the recipe.
+of formers. A new former is one module that declares it (a module of ``salkit/focus``, which
+:mod:`salkit.focus.pipeline` imports every one of, for a built-in former; any module of the
+user's for others) and its test; docs/architecture.md has the recipe.
 """
 from __future__ import annotations
 

@@ -4,12 +4,15 @@ dataset's coordinates and collection geometry.
 ``focus`` dispatches on the kind of the data (:data:`PROCESSORS`: SAL raw data and phase
 histories, down-looking SAL raw data); SAL images are formed by the declared formers
 (:data:`salkit.registry.FORMERS`), which share one signature and one normalisation
-(:mod:`salkit.focus.formers`). The built-in formers declare themselves when this module imports
-their modules (the registry's provider).
+(:mod:`salkit.focus.formers`). The built-in formers declare themselves in their modules, which
+this module imports, every one of the package (the registry's provider).
 """
 from __future__ import annotations
 
+import importlib
 import logging
+import pkgutil
+import sys
 from typing import Callable, Optional
 
 import numpy as np
@@ -29,13 +32,19 @@ from ..resources import available_memory, parse_size, size_text, user_limit
 from ..signals.windows import Window
 from ..tolerances import GRID_SPACING_OF_RESOLUTION
 from ..simulate.echoes import memory_estimate as simulate_memory_estimate, signal_shape
-from . import bp, ffbp, pfa, omegak, exact  # noqa: F401  (each declares its former, in this order)
 from .downlooking import focus_downlooking_raw
 from .formers import ImageGrid, ImageResult, former_spec, get_former
 from .phasehistory import PhaseHistory, default_grid, phase_history, theory_resolution
 from .tiles import DatasetPulses, InMemoryPulses, form_tiles, memory_estimate, plan_tiling
 
 _log = logging.getLogger("salkit.focus")
+
+#: Every module of this package, imported here: the built-in formers declare themselves in their own
+#: modules, so a new one is found without a list to edit (the registry's provider is this module).
+BUILT_IN_MODULES = tuple(sorted(m.name for m in pkgutil.iter_modules(sys.modules[__package__].__path__)
+                                if m.name != __name__.rsplit(".", 1)[-1]))
+for _name in BUILT_IN_MODULES:
+    importlib.import_module(f"{__package__}.{_name}")
 
 #: Range-profile upsampling of ``bp`` at ``accuracy = "high"`` (-78 dB against the exact matched filter).
 HIGH_ACCURACY_UPSAMPLE = 32
