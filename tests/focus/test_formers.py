@@ -1,6 +1,7 @@
 """The former declarations: one signature, one normalisation, declared once and read everywhere;
 a former declared in this file alone works through ``salkit.focus``, a scenario and the command
 line (the recipe of docs/architecture.md)."""
+import json
 import re
 from pathlib import Path
 
@@ -15,8 +16,8 @@ from salkit.focus.bp import backprojection_former, bp_memory
 from salkit.focus.formers import Accuracy, former_help, former_table
 from salkit.focus.tiles import memory_estimate, plan_tiling
 from salkit.geometry.sampling import check_sampling
-from salkit.io import write_dataset
-from salkit.params import parse_scenario
+from salkit.io import open_dataset, write_dataset
+from salkit.params import dump_scenario, parse_scenario
 from salkit.registry import FORMERS
 from salkit.signals.windows import Window
 
@@ -132,6 +133,12 @@ def test_a_former_declared_in_a_test_works_everywhere(bp_nearest, tmp_path):
     assert "bp_nearest: backprojection, profiles read at the nearest bin" in shown
     r = runner.invoke(app, ["focus", str(tmp_path / "raw.nc"), "--algorithm", "bp_nearst", "--out", str(tmp_path / "o2")])
     assert r.exit_code == 2 and "did you mean 'bp_nearest'" in r.output
+    # a scenario file run end to end (preflight, memory plan, workflow, report)
+    (tmp_path / "s.yaml").write_text(dump_scenario(sc))
+    r = runner.invoke(app, ["run", str(tmp_path / "s.yaml"), "--out", str(tmp_path / "run")])
+    assert r.exit_code == 0, r.output
+    assert json.loads((tmp_path / "run" / "metrics.json").read_text())["irw_range_m"] > 0
+    assert open_dataset(tmp_path / "run" / "image.nc").attrs["algorithm"] == "bp_nearest"
 
 
 def test_a_former_refuses_collections_it_does_not_declare():

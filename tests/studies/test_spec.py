@@ -38,3 +38,16 @@ def test_malformed_refused(item, words):
     with pytest.raises(ScenarioError) as e:
         parse_vary(item)
     assert e.value.field == "--vary" and e.value.value == item and words in e.value.constraint
+
+
+def test_a_sweep_files_metrics_are_checked_against_the_table(tmp_path):
+    """A metric a sweep file names that salkit does not measure is refused with the file, the name
+    and the nearest declared one; declared ones (with case labels) pass."""
+    from salkit.studies.spec import read_sweep_file
+    (tmp_path / "s.yaml").write_text("sweep: 1\nscenario: base.yaml\nvary: {waveform.bandwidth: '1e9,2e9'}\n"
+                                     "metrics: [irw_range_m, medium_pga_entropy, pslr_azimth_db]\n")
+    with pytest.raises(ScenarioError, match=r"s.yaml: metrics = 'pslr_azimth_db'.*the nearest: 'pslr_azimuth_db'"):
+        read_sweep_file(tmp_path / "s.yaml")
+    (tmp_path / "t.yaml").write_text("sweep: 1\nscenario: base.yaml\nvary: {waveform.bandwidth: '1e9,2e9'}\n"
+                                     "metrics: [irw_range_m, medium_pga_entropy]\n")
+    assert read_sweep_file(tmp_path / "t.yaml").metrics == ("irw_range_m", "medium_pga_entropy")

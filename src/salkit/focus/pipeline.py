@@ -146,7 +146,7 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
               accuracy: str | None = None, memory_limit: float | str | None = None, out=None,
               client=None) -> xr.Dataset:
     """The SAL processor of :func:`focus` (raw dechirped data and phase histories): range
-    compression, then the registered former :func:`get_former` names. Parameters as :func:`focus`.
+    compression, then the declared former :func:`get_former` names. Parameters as :func:`focus`.
 
     Returns
     -------
