@@ -4,6 +4,7 @@ import math
 import numpy as np
 import pytest
 
+from salkit.simulate.linewidth import NO_PHASE_NOISE
 from salkit.geometry import build_collection
 from salkit.geometry.collection import beam_gain_table
 from salkit.params import parse_scenario
@@ -59,5 +60,5 @@ def test_exact_kernel_equals_fast_for_linear_chirp(spot):
     simulate_exact(col.positions, col.velocity, col.reference_range, col.boresight, pos, amp.real.copy(),
                    amp.imag.copy(), t[0], t[1] - t[0], w.carrier_frequency, w.rate, w.pulse_width,
                    np.zeros(0), False, table, dsin, re, im, *_NO_PATH, np.zeros((0, 0), np.complex128), 0.0, 1.0,
-                   np.zeros(0))
+                   np.zeros(0), *NO_PHASE_NOISE)
     np.testing.assert_allclose(re + 1j * im, fast, atol=1e-4)

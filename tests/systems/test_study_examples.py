@@ -83,3 +83,16 @@ def test_strehl_at_target_against_r0_expectation():
         assert abs(v.mean() - t) < 3 * se, (cn2, v.mean(), t, se)
         assert t < (0.2 if cn2 == 1e-15 else 0.06)  # L = 0.5 m spans many r0: the theory is far from 1
     assert np.isnan(th.sel({"atmosphere.cn2": 0.0})).all()
+
+
+def test_linewidth_study_follows_the_expected_peak_loss():
+    """The linewidth study (5 km, undelayed LO), 8 realisations: the mean intensity at the target
+    over the coherent laser's within 10 % of exp(-2 pi linewidth tau) where that is above 0.1, and
+    within 3 standard errors of its ensemble mean (the pedestal included) everywhere."""
+    sc, vary, sf = _load("linewidth")
+    ds = sweep(sc, vary, metrics=sf.metrics, realisations=8)
+    m, th = ds["peak_power_loss"].values, ds["peak_power_loss_theory"].values
+    mean, se = m.mean(axis=1), m.std(axis=1, ddof=1) / np.sqrt(m.shape[1])
+    strong = th[:, 0] > 0.1
+    assert np.all(np.abs(mean[strong] / th[strong, 0] - 1) < 0.10), mean / th[:, 0]
+    assert np.all(np.abs(mean - th[:, 0]) <= 3 * se + 1e-12), (mean, th[:, 0], se)

@@ -252,6 +252,11 @@ _D("r0_spherical_m", "m", "Fried parameter, spherical wave, over the path")
 _D("r0_two_way_m", "m", "two-way coherence length of the path")
 _D("strehl_at_target", "", "intensity at the target over the turbulence-free one", True)
 _D("rytov_spherical", "", "Rytov variance of a spherical wave over the path (scintillation strength)")
+# ---------------------------------------------------------------- lasers of finite linewidth
+_D("peak_power_loss", "", "intensity at the target over a perfectly coherent laser's (theory: the ensemble mean, "
+   "exp(-sigma^2) and the pedestal the phase noise leaves)", True)
+_D("phase_noise_variance", "rad^2", "variance of the beat's phase error, 2 pi linewidth |tau - tau_LO| (theory only)",
+   "phase_noise_variance_theory")
 # ---------------------------------------------------------------- wave optics (salkit propagate)
 _D("rytov_variance", "", "Rytov variance of the wave over the path")
 _D("scintillation_index", "", "normalised intensity variance at a point receiver", True)

@@ -74,6 +74,9 @@ class Waveform(_Frozen):
     nonlinearity: tuple[float, ...] = Field(
         default=(), description="coefficients of t**2, t**3, ... in the frequency sweep, Hz/s**n")
     phase_error: Optional[ChirpPhaseError] = Field(default=None, description="arbitrary chirp phase error")
+    linewidth: float = Field(default=0.0, ge=0, lt=1e12, description=(
+        "laser linewidth, Hz (FWHM of a Lorentzian line): Wiener phase noise, a phase error of variance "
+        "2 pi linewidth |tau - tau_LO| in each echo (salkit.simulate.linewidth); 0: a perfectly coherent laser"))
 
     @model_validator(mode="after")
     def _consistent(self) -> "Waveform":
@@ -335,6 +338,9 @@ class Receiver(_Frozen):
         "ADC window, s; default pulse_width minus the scene's delay spread"))
     noise: Noise = Noise()
     reference_channel: Optional[ReferenceChannel] = None
+    lo_delay: Optional[float] = Field(default=None, ge=0, lt=10.0, description=(
+        "delay of the local oscillator's path, s, for the laser's phase noise (waveform.linewidth): "
+        "default matched to the dechirp reference range (a delay-line LO); 0: an undelayed LO"))
 
 
 # --------------------------------------------------------------------------- processing

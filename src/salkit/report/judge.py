@@ -170,6 +170,12 @@ def comparison_rows(m: dict) -> list[dict]:
                          delta=f"{m['strehl_at_target'] / m['strehl_at_target_theory']:.3f}", ok=None,
                          tol="not judged: one realisation of the screens (the theory is the ensemble mean; "
                              "salkit sweep --realisations N)"))
+    if "peak_power_loss_theory" in m:  # one draw of the laser's phase noise, as above
+        rows.append(dict(name="intensity at target / coherent laser", measured=_fmt(m["peak_power_loss"]),
+                         theory=_fmt(m["peak_power_loss_theory"]),
+                         delta=f"{m['peak_power_loss'] / m['peak_power_loss_theory']:.3f}", ok=None,
+                         tol="not judged: one realisation of the phase noise (the theory, exp(-sigma^2), is the "
+                             "ensemble mean; salkit sweep --realisations N)"))
     if "image_snr" in m:
         r, ok = ratio_rule(m["image_snr"], m["image_snr_theory"], tol.SNR_RATIO)
         rows.append(dict(name="speckle image SNR", measured=_fmt(m["image_snr"]),

@@ -11,6 +11,7 @@ from ..errors import ScenarioError
 from ..geometry.collection import Collection, beam_gain_table, pulse_count
 from ..geometry.sampling import resolution_theory
 from ..params.models import Noise, Scenario
+from .linewidth import NO_PHASE_NOISE
 from .kernels import simulate_exact, simulate_linear
 
 ProgressFn = Optional[Callable[[int, int], None]]
@@ -51,7 +52,8 @@ def _path_args(path):
 
 def echo_signal(collection: Collection, scatter_pos: np.ndarray, scatter_amp: np.ndarray,
                 scenario: Scenario, fast_time: np.ndarray, chunk: int = 256,
-                progress: ProgressFn = None, path=None, gains: np.ndarray | None = None) -> np.ndarray:
+                progress: ProgressFn = None, path=None, gains: np.ndarray | None = None,
+                phase_noise=None) -> np.ndarray:
     """Noise-free dechirped echoes (P, N) complex64 of the given scatterers.
 
     Parameters
@@ -74,6 +76,8 @@ def echo_signal(collection: Collection, scatter_pos: np.ndarray, scatter_amp: np
     gains : complex ndarray (P, S), optional
         Two-way complex gain of each scatterer at each pulse, in place of the beam pattern (wave
         optics, :func:`salkit.atmosphere.beam.two_way_gains`).
+    phase_noise : PhaseNoise, optional
+        The laser's phase noise for these pulses (:func:`salkit.simulate.linewidth.phase_noise`).
 
     Returns
     -------
@@ -89,7 +93,7 @@ def echo_signal(collection: Collection, scatter_pos: np.ndarray, scatter_amp: np
     aim = np.ascontiguousarray(scatter_amp.imag, dtype=np.float64)
     t0 = float(fast_time[0])
     dt = float(fast_time[1] - fast_time[0]) if N > 1 else 1.0
-    exact = (not w.is_linear) or p.intra_pulse_motion
+    exact = (not w.is_linear) or p.intra_pulse_motion or phase_noise is not None
     coeffs = np.asarray(w.nonlinearity, dtype=np.float64)
     if w.phase_error is not None:
         try:
@@ -111,7 +115,8 @@ def echo_signal(collection: Collection, scatter_pos: np.ndarray, scatter_amp: np
                            np.ascontiguousarray(collection.reference_range[a:b]),
                            np.ascontiguousarray(collection.boresight[a:b]), pos, are, aim, t0, dt,
                            w.carrier_frequency, w.rate, w.pulse_width, coeffs, p.intra_pulse_motion,
-                           table, dsin, re, im, *pargs, g, *etab)
+                           table, dsin, re, im, *pargs, g, *etab,
+                           *(NO_PHASE_NOISE if phase_noise is None else phase_noise.rows(a, b)))
         else:
             simulate_linear(args_geo[0], np.ascontiguousarray(collection.reference_range[a:b]),
                             np.ascontiguousarray(collection.boresight[a:b]), pos, are, aim, t0, dt,

@@ -166,24 +166,29 @@ def _etab(x, e_t0, e_dt, e_tab):
 @njit(parallel=True, cache=True, fastmath=False)
 def simulate_exact(pos, vel, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp, coeffs, intra,
                    table, dsin, out_re, out_im, scr, scr_z, scr_org, scr_dx, u0, ax_a, ax_b,
-                   gain, e_t0, e_dt, e_tab):
-    """Per-sample evaluation: polynomial chirp nonlinearity and optional intra-pulse motion.
+                   gain, e_t0, e_dt, e_tab, n_dt, n_echo_t0, n_echo, n_lo_t0, n_lo, n_lo_shift):
+    """Per-sample evaluation: polynomial chirp nonlinearity, laser phase noise and optional
+    intra-pulse motion.
 
     ``coeffs[m]`` multiplies t**(m+2) in the frequency sweep (Hz/s**(m+2)); ``e_tab`` (spacing
     ``e_dt`` from ``e_t0``) tabulates an arbitrary chirp phase error e(t), rad (empty: none); with
-    intra-pulse motion the antenna is at pos + vel * t during sample t.
+    intra-pulse motion the antenna is at pos + vel * t during sample t. The laser's phase noise
+    (empty ``n_echo``: none) is tabulated per pulse at spacing ``n_dt``: the echo of delay offset d
+    carries ``n_echo[p]`` at t - d (from ``n_echo_t0``), the local oscillator ``n_lo[p]`` at
+    t + ``n_lo_shift[p]`` (from ``n_lo_t0[p]``), two windows of one Wiener path.
 
     Parameters
     ----------
-    pos, vel, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp, coeffs, intra, table, dsin, out_re, out_im, scr, scr_z, scr_org, scr_dx, u0, ax_a, ax_b, gain, e_t0, e_dt, e_tab
-        As :func:`simulate_linear`, with the antenna velocity (m/s), the chirp polynomial and the
-        tabulated chirp phase error.
+    pos, vel, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp, coeffs, intra, table, dsin, out_re, out_im, scr, scr_z, scr_org, scr_dx, u0, ax_a, ax_b, gain, e_t0, e_dt, e_tab, n_dt, n_echo_t0, n_echo, n_lo_t0, n_lo, n_lo_shift
+        As :func:`simulate_linear`, with the antenna velocity (m/s), the chirp polynomial, the
+        tabulated chirp phase error and the tabulated phase noise (rad, s).
     """
     P = pos.shape[0]
     S = scat.shape[0]
     N = out_re.shape[1]
     c = SPEED_OF_LIGHT
     M = coeffs.shape[0]
+    noisy = n_echo.shape[0] > 0
     for p in prange(P):
         for s in range(S):
             dx0 = scat[s, 0] - pos[p, 0]
@@ -220,6 +225,9 @@ def simulate_exact(pos, vel, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp,
                     cyc += coeffs[m] / (m + 3) * _poly_diff(t, d, m + 3)
                 cyc -= np.floor(cyc)
                 ph = _TWO_PI * cyc + _etab(t - d, e_t0, e_dt, e_tab) - _etab(t, e_t0, e_dt, e_tab)
+                if noisy:  # the laser's phase when the echo left, less the local oscillator's now
+                    ph += (_etab(t - d, n_echo_t0, n_dt, n_echo[p])
+                           - _etab(t + n_lo_shift[p], n_lo_t0[p], n_dt, n_lo[p]))
                 cph, sph = math.cos(ph), math.sin(ph)
                 out_re[p, n] += np.float32(ar * cph - ai * sph)
                 out_im[p, n] += np.float32(ar * sph + ai * cph)

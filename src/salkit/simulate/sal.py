@@ -18,6 +18,7 @@ from ..resources import available_memory, check_memory, size_text
 from ..signals.chirp import reference_beat
 from .echoes import (ProgressFn, echo_signal, fast_time_axis, memory_estimate, photon_noise, signal_scale,
                      signal_shape)
+from .linewidth import lo_shift, phase_noise
 from .scene import build_scatterers
 from .turbulent import turbulent_path, wave_optics_plan
 
@@ -67,6 +68,7 @@ class _Echoes:
         check_sampling(scenario, col)
         n = n_fast_samples(scenario, col)
         self.t = fast_time_axis(n, scenario.receiver.adc_rate)
+        self.delays = delay_spread(scenario, col)
         res = resolution_theory(scenario, col)
         look = -col.center_position / np.linalg.norm(col.center_position)
         cos_graze = math.sqrt(max(1.0 - look[2] ** 2, 1e-12))
@@ -107,8 +109,12 @@ class _Echoes:
         tick = None
         if self.progress is not None and self.gains is None:
             tick = (lambda d, n: self.progress(a + d, col.n_pulses))
+        noise_tab = None
+        if sc.waveform.linewidth > 0:  # the laser's phase noise, each pulse from its own stream
+            noise_tab = phase_noise(sc.waveform.linewidth, self.t, self.delays,
+                                    lo_shift(sub.reference_range, sc.receiver.lo_delay), sc.seed, np.arange(a, b))
         sig = echo_signal(sub, self.spos, self.amp, sc, self.t, progress=tick, path=self.path,
-                          gains=None if self.gains is None else self.gains[a:b])
+                          gains=None if self.gains is None else self.gains[a:b], phase_noise=noise_tab)
         if self.phase_error is not None:
             sig *= self.phase_error[a:b, None]
         if (sc.receiver.noise.enabled if noise is None else noise):

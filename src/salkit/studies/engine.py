@@ -297,7 +297,7 @@ def _axis_attrs(a) -> dict:
 
 #: Metrics whose theory is an ensemble mean (a random quantity's expectation): a sweep compares the
 #: mean over the realisations with it, within its standard error; the others compare the median.
-THEORY_IS_MEAN = ("strehl_at_target",)
+THEORY_IS_MEAN = ("strehl_at_target", "peak_power_loss")
 
 
 def summary(ds: xr.Dataset) -> dict:

@@ -14,11 +14,13 @@ import xarray as xr
 from ..errors import ScenarioError
 from ..focus import focus, focus_to_file, image_fits
 from ..geometry.collection import build_collection
-from ..geometry.sampling import check_sampling
+from ..geometry.sampling import check_sampling, n_fast_samples
 from ..metrics.table import warn_undeclared
 from ..metrics import brightest_window, measure, snr_against_truth
 from ..params.models import Processing, Scenario
 from ..params.scenario import dump_scenario, stored_scenario
+from ..constants import SPEED_OF_LIGHT
+from ..simulate.linewidth import expected_peak_power_loss, phase_noise_variance
 from ..simulate import simulate
 from .result import Progress, RunResult, flat_numbers, stage
 from ..geometry.collection import equalisation_efficiency
@@ -149,6 +151,44 @@ def turbulence_metrics(scenario: Scenario, col, image: xr.Dataset, peak: float) 
     return m
 
 
+def linewidth_metrics(scenario: Scenario, col, image: xr.Dataset) -> dict:
+    """What the laser's phase noise did to a point-target image, against the same scenario with a
+    perfectly coherent laser (noise off; one more simulation and image formation): the intensity at
+    the target over the coherent one (``peak_power_loss``) against exp(-sigma^2), sigma^2 = 2 pi
+    linewidth |tau - tau_LO| at the scene centre, with the pedestal the noise leaves
+    (:func:`salkit.simulate.linewidth.expected_peak_power_loss`; :mod:`salkit.simulate.linewidth`).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        With ``waveform.linewidth`` > 0 and point targets only.
+    col : Collection
+    image : xarray.Dataset
+        The image before autofocus.
+
+    Returns
+    -------
+    dict
+    """
+    nz = scenario.receiver.noise
+    coherent = scenario.model_copy(update={
+        "waveform": scenario.waveform.model_copy(update={"linewidth": 0.0}),
+        "receiver": scenario.receiver.model_copy(update={"noise": nz.model_copy(update={"enabled": False})})})
+    ref = focus(simulate(coherent), scenario.processing, scenario=coherent)["image"].values
+    at = np.unravel_index(np.argmax(np.abs(ref)), ref.shape)  # the target's pixel
+    mid = col.n_pulses // 2
+    tau = 2.0 * float(np.linalg.norm(col.center_position)) / SPEED_OF_LIGHT
+    lo = scenario.receiver.lo_delay
+    tau_lo = 2.0 * float(col.reference_range[mid]) / SPEED_OF_LIGHT if lo is None else lo
+    wf, rx, p = scenario.waveform, scenario.receiver, scenario.processing
+    win = Window(p.window, p.taylor_nbar, p.taylor_sll)
+    n = max(1, min(n_fast_samples(scenario, col), int(round(wf.pulse_width * rx.adc_rate))))  # samples with the echo
+    return {"peak_power_loss": float(np.abs(image["image"].values[at]) ** 2 / np.abs(ref[at]) ** 2),
+            "peak_power_loss_theory": expected_peak_power_loss(wf.linewidth, tau - tau_lo, 1.0 / rx.adc_rate, win(n),
+                                                               win(col.n_pulses)),
+            "phase_noise_variance_theory": phase_noise_variance(wf.linewidth, tau - tau_lo)}
+
+
 def autofocus_image(image: xr.Dataset, scenario: Scenario | None, method: str | None = None,
                    kernel: str | None = None, max_iter: int | None = None):
     """Autofocus a formed image; its metrics before, and the history.
@@ -217,6 +257,8 @@ def run(scenario: Scenario, out_dir=None, progress: Progress = None) -> RunResul
         metrics.update(noise_metrics(scenario, col, raw, image, details))
     if scenario.atmosphere is not None and scenario.scene.extended is None:
         metrics.update(turbulence_metrics(scenario, col, data.get("image_focus.nc", image), metrics["peak_amplitude"]))
+    if scenario.waveform.linewidth > 0 and scenario.scene.extended is None:
+        metrics.update(linewidth_metrics(scenario, col, data.get("image_focus.nc", image)))
     return RunResult("airborne", scenario.name, scenario.description, dump_scenario(scenario), metrics, data,
                      figures={"details": details, "autofocus": af_res, "raw": raw,
                               "timings": {"simulate_s": t_sim, "focus_s": t_focus}})
