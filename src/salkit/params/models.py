@@ -580,6 +580,18 @@ def nominal_resolution(data: dict) -> dict:
     return out
 
 
+class Simulation(_Frozen):
+    """How the echoes are computed: the direct sum over scatterers (the reference), or one
+    non-uniform FFT a pulse (:mod:`salkit.simulate.fast`) to a stated accuracy against it."""
+
+    method: Literal["direct", "nufft", "auto"] = Field(default="direct", description=(
+        "direct: the exact sum (scatterers x pulses x samples); nufft: one non-uniform FFT a pulse (linear "
+        "chirp, the ADC gate inside every echo; refused otherwise); auto: nufft where it holds and the sum "
+        "is large, else direct"))
+    accuracy_db: float = Field(default=-80.0, ge=-120.0, le=-40.0, description=(
+        "the fast method's error energy against the direct sum, dB (-80 default; -100 for interferometry)"))
+
+
 class Scenario(_ScenarioBase):
     """A synthetic aperture ladar scenario: waveform, platform, scene, receiver, processing, and
     optionally an atmosphere, one of the seed experiments (turbulence, chirp, space-borne) and
@@ -598,6 +610,7 @@ class Scenario(_ScenarioBase):
     experiment: Optional[TurbulenceExperiment | ChirpExperiment | SpaceborneExperiment] = Field(
         default=None, discriminator="kind")
     stack: StackSettings = StackSettings()
+    simulation: Simulation = Simulation()
 
     @model_validator(mode="before")
     @classmethod

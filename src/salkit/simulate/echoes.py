@@ -7,11 +7,13 @@ from typing import Callable, Optional
 
 import numpy as np
 
+from ..constants import SPEED_OF_LIGHT
 from ..errors import ScenarioError
 from ..geometry.collection import Collection, beam_gain_table, pulse_count
 from ..geometry.sampling import resolution_theory
 from ..params.models import Noise, Scenario
 from .linewidth import NO_PHASE_NOISE
+from .fast import applies, fast_echoes
 from .kernels import simulate_exact, simulate_linear
 
 ProgressFn = Optional[Callable[[int, int], None]]
@@ -48,6 +50,21 @@ def _path_args(path):
         return _NO_PATH
     return (np.ascontiguousarray(path.screens, np.float32), np.asarray(path.z, float),
             np.asarray(path.origin, float), float(path.dx), path.u0, path.a, path.b)
+
+
+#: ``simulation.method = "auto"`` takes the fast simulator from this many scatterer-samples a pulse.
+AUTO_FAST = 1 << 20
+
+
+def _delays(collection: Collection, scatter_pos: np.ndarray, fast_time: np.ndarray) -> tuple[float, float]:
+    """Smallest and largest delay offset 2 (R - R_ref) / c of the scatterers over the collection's
+    first, middle and last pulses, s."""
+    d = []
+    for p in sorted({0, collection.n_pulses // 2, collection.n_pulses - 1}):
+        R = np.linalg.norm(scatter_pos - collection.positions[p], axis=1)
+        d.append(2.0 * (R - collection.reference_range[p]) / SPEED_OF_LIGHT)
+    d = np.concatenate(d) if d else np.zeros(1)
+    return float(d.min()), float(d.max())
 
 
 def echo_signal(collection: Collection, scatter_pos: np.ndarray, scatter_amp: np.ndarray,
@@ -103,6 +120,17 @@ def echo_signal(collection: Collection, scatter_pos: np.ndarray, scatter_amp: np
         etab = (float(et[0]), float(et[1] - et[0]), np.ascontiguousarray(ev, dtype=np.float64))
     else:
         etab = (0.0, 1.0, np.zeros(0))
+    method = scenario.simulation.method
+    if method != "direct" and not exact:
+        why = applies(scenario, _delays(collection, scatter_pos, fast_time), fast_time)
+        if why and method == "nufft":
+            raise ScenarioError("simulation.method", "nufft", f"the fast simulator does not hold here: {why}")
+        if not why and (method == "nufft" or scatter_pos.shape[0] * N >= AUTO_FAST):
+            return fast_echoes(collection, scatter_pos, scatter_amp, scenario, fast_time, table, dsin, pargs,
+                               gains=gains, accuracy_db=scenario.simulation.accuracy_db, progress=progress)
+    elif method == "nufft":
+        raise ScenarioError("simulation.method", "nufft", "the fast simulator needs a linear chirp, no intra-pulse "
+                            "motion and no laser phase noise")
     no_gain = np.zeros((0, 0), np.complex128)
     for a in range(0, P, chunk):
         b = min(P, a + chunk)
