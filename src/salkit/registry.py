@@ -253,3 +253,7 @@ OBJECT_KINDS: Registry = Registry("scene object kind", "scene.extended.kind", pr
 PATTERNS: Registry = Registry("pattern", "scene.extended.pattern", providers=("salkit.simulate.objects",))
 #: Materials: how a surface's reflectivity becomes scatterers (:class:`salkit.simulate.objects.Material`).
 MATERIALS: Registry = Registry("material", "scene.extended.material", providers=("salkit.simulate.objects",))
+#: Built-in 3-D shapes of ``scene.objects`` (:class:`salkit.simulate.targets.Shape`).
+SHAPES: Registry = Registry("shape", "scene.objects.shape", providers=("salkit.simulate.targets",))
+#: Surface kinds of 3-D objects (:class:`salkit.simulate.targets.Surface`): how a surface scatters back.
+SURFACES: Registry = Registry("surface kind", "scene.objects.material.kind", providers=("salkit.simulate.targets",))

@@ -17,7 +17,7 @@ from pydantic import Discriminator, Field, Tag, field_validator, model_validator
 from ..choices import (ACCURACY, ATMOSPHERE_MODELS, AUTOFOCUS_METHODS, CHIRP_CORRECTIONS, PGA_KERNELS,
                        PLANES, STACK_MODES, WINDOWS)
 from ..constants import SPEED_OF_LIGHT
-from ..registry import FORMERS, MATERIALS, OBJECT_KINDS, PATTERNS
+from ..registry import FORMERS, MATERIALS, OBJECT_KINDS, PATTERNS, SHAPES, SURFACES
 from ..tolerances import BP_UPSAMPLE
 from .base import FieldProblem, PhaseError, _Frozen
 from .downlooking import DownlookingExperiment
@@ -249,11 +249,63 @@ class ExtendedScene(_Frozen):
         return self
 
 
+class SurfaceMaterial(_Frozen):
+    """How a 3-D object's surface scatters back (a declared surface kind, :data:`salkit.registry.SURFACES`)."""
+
+    kind: str = Field(default="lambertian", description="lambertian | specular | retroreflector (declared)")
+    reflectance: float = Field(default=0.3, gt=0, le=1, description="reflectance (Lambertian albedo, or the "
+                                                                     "specular Fresnel power reflectance)")
+    roughness: float = Field(default=0.1, ge=0, le=1, description="rms surface slope of a specular surface "
+                                                                   "(its lobe about the mirror direction)")
+    speckle: bool = Field(default=True, description="rough (circular Gaussian speckle) or smooth (coherent glint)")
+
+    @field_validator("kind")
+    @classmethod
+    def _declared_surface(cls, v: str) -> str:
+        if v not in SURFACES:
+            raise ValueError(str(SURFACES.unknown(v).constraint))
+        return v
+
+
+class SceneObject(_Frozen):
+    """A 3-D object: a built-in shape or a mesh file, placed, turned and scaled, with a material
+    (per named part if it has parts)."""
+
+    name: str = ""
+    shape: Optional[str] = Field(default=None, description="a declared shape: box | plate | sphere | cylinder | "
+                                                           "satellite | vehicle")
+    mesh: Optional[str] = Field(default=None, description="a mesh file (OBJ, STL, PLY, glTF/GLB) read with trimesh")
+    size: tuple[float, ...] = Field(default=(1.0, 1.0, 1.0), description=(
+        "m: box [x, y, z]; plate [x, y]; sphere [diameter]; cylinder [diameter, height]; the models their "
+        "overall [x, y, z]"))
+    position: tuple[float, float, float] = Field(default=(0.0, 0.0, 0.0), description="centre, m (scene frame)")
+    attitude_deg: tuple[float, float, float] = Field(default=(0.0, 0.0, 0.0), description="yaw, pitch, roll, deg")
+    scale: float = Field(default=1.0, gt=0, le=1e4)
+    material: SurfaceMaterial = Field(default_factory=SurfaceMaterial)  # made when used (its kind is declared)
+    parts: dict[str, SurfaceMaterial] = Field(default_factory=dict, description="material by part name")
+
+    @field_validator("shape")
+    @classmethod
+    def _declared_shape(cls, v):
+        if v is not None and v not in SHAPES:
+            raise ValueError(str(SHAPES.unknown(v).constraint))
+        return v
+
+    @model_validator(mode="after")
+    def _one_source(self) -> "SceneObject":
+        if (self.shape is None) == (self.mesh is None):
+            raise FieldProblem("shape", self.shape, "give exactly one of shape and mesh")
+        if any(not (0 < v <= 1e4) for v in self.size):
+            raise FieldProblem("size", list(self.size), "each must be in (0, 1e4] m")
+        return self
+
+
 class Scene(_Frozen):
-    """Point targets and/or an extended scene."""
+    """Point targets, an extended scene and/or 3-D objects."""
 
     points: tuple[PointTarget, ...] = ()
     extended: Optional[ExtendedScene] = None
+    objects: tuple[SceneObject, ...] = ()
     origin: Optional[tuple[float, float, float]] = Field(default=None, description=(
         "where the scene frame's origin (x east, y north, z up) lies on the earth: WGS84 latitude (deg), "
         "longitude (deg), height above the ellipsoid (m); images then carry the geodetic positions of "
@@ -269,8 +321,8 @@ class Scene(_Frozen):
 
     @model_validator(mode="after")
     def _nonempty(self) -> "Scene":
-        if not self.points and self.extended is None:
-            raise ValueError("the scene needs at least one point target or an extended scene")
+        if not self.points and self.extended is None and not self.objects:
+            raise ValueError("the scene needs at least one point target, an extended scene or an object")
         return self
 
 

@@ -10,7 +10,7 @@ import xarray as xr
 from ..atmosphere.beam import two_way_gains
 from ..geometry.collection import build_collection
 from ..geometry.sampling import check_sampling, delay_spread, n_fast_samples, resolution_theory
-from ..errors import ResourceError
+from ..errors import ResourceError, ScenarioError
 from ..io.datasets import make_raw_dataset
 from ..io.writing import ChunkedFileWriter
 from ..params.models import Scenario
@@ -20,6 +20,7 @@ from .echoes import (ProgressFn, echo_signal, fast_time_axis, memory_estimate, p
                      signal_shape)
 from .linewidth import lo_shift, phase_noise
 from .scene import build_scatterers
+from .targets import LOOK_TURN_DEG, look_turn_deg
 from .turbulent import turbulent_path, wave_optics_plan
 
 
@@ -85,7 +86,14 @@ class _Echoes:
             def smooth_phase(x):
                 rel = x - pc
                 return k * (np.linalg.norm(rel - np.outer(rel @ a, a), axis=1) - rs)
-        self.spos, samp = build_scatterers(scenario, cell, rng, smooth_phase)
+        if scenario.scene.objects and look_turn_deg(col.positions, np.zeros(3)) > LOOK_TURN_DEG:
+            raise ScenarioError("scene.objects", f"{len(scenario.scene.objects)} objects",
+                                f"the look direction turns {look_turn_deg(col.positions, np.zeros(3)):.3g} deg over the "
+                                f"aperture, more than the {LOOK_TURN_DEG:g} deg one occlusion holds for: simulate "
+                                "sub-apertures apart")
+        spacing = min(res["azimuth"], res["slant_range"]) / 2.0  # SAMPLES_PER_CELL = 4 samples a cell, any tilt
+        self.spos, samp = build_scatterers(scenario, cell, rng, smooth_phase, sensor=col.center_position,
+                                           spacing=spacing)
         self.amp = samp * signal_scale(scenario, col, n)
         self.path = turbulent_path(scenario, col) if scenario.atmosphere is not None else None
         self.gains = None
