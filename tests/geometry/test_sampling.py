@@ -67,3 +67,12 @@ def test_ffbp_on_stripmap_refused_before_work():
     sc = parse_scenario(merge(STRIP, processing__algorithm="ffbp"))
     with pytest.raises(ScenarioError, match="ffbp"):
         check_sampling(sc, build_collection(sc))
+
+
+def test_the_probe_points_hold_every_object_turned():
+    from salkit.geometry.sampling import scene_probe_points
+    sc = parse_scenario(merge(SPOT, scene={"objects": [{"shape": "box", "size": [4.0, 1.0, 1.0], "position": [1, 2, 0.5],
+                                                        "attitude_deg": [90.0, 0.0, 0.0]}]}))
+    pts = scene_probe_points(sc)
+    assert np.ptp(pts[:, 1]) == pytest.approx(4.4) and np.ptp(pts[:, 0]) == pytest.approx(1.1)  # yawed 90 deg
+    assert pts[:, 2].max() == pytest.approx(0.5 + 0.55)

@@ -19,3 +19,12 @@ def test_image_and_raw_figures(tmp_path):
         assert p.is_file() and p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert len(plt.get_fignums()) == before
     assert not [f for f in tmp_path.iterdir() if f.name.startswith(".")]  # no temporary left
+
+
+def test_the_model_figure(tmp_path):
+    from salkit.params.models import SceneObject
+    from salkit.simulate.targets import model_view
+    scene = [SceneObject(shape="plate", size=(4, 4)), SceneObject(shape="vehicle", size=(2, 1, 1), position=(0, 0, 0.5))]
+    view = model_view(scene, np.array([0.0, -4000.0, 3000.0]), 0.05)
+    p = plot.model_view_figure(view, tmp_path / "model.png", title="a car")
+    assert p.stat().st_size > 10_000 and plt.get_fignums() == []

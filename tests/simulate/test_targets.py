@@ -123,3 +123,14 @@ def test_shapes_meshes_and_refusals(tmp_path):
     (tmp_path / "bad.stl").write_text("not a mesh")
     with pytest.raises(ScenarioError, match="scene.objects.mesh"):
         object_parts(SceneObject(mesh=str(tmp_path / "bad.stl")))
+
+
+def test_the_model_seen_from_the_sensor():
+    from salkit.simulate.targets import model_view
+    sensor = np.array([0.0, -4000.0, 3000.0])
+    box = model_view([SceneObject(shape="box", size=(1, 1, 1), position=(0, 0, 0.5))], sensor, 0.05)
+    assert [np.mean(box["state"] == k) for k in (0, 1, 2)] == pytest.approx([1 / 3, 0.0, 2 / 3], abs=1e-9)
+    scene = [SceneObject(shape="plate", size=(4, 4)), SceneObject(shape="box", size=(1, 1, 1), position=(0, 0, 0.5))]
+    v = model_view(scene, sensor, 0.05)
+    ground = (v["z"] < 1e-9) & (v["state"] == 1)  # under the box, and its shadow behind it: 1 / tan(37 deg) long
+    assert v["y"][ground].min() == pytest.approx(-0.5, abs=0.05) and v["y"][ground].max() == pytest.approx(0.5 + 4 / 3, abs=0.05)

@@ -558,3 +558,21 @@ def equalisation_efficiency(scenario: Scenario, collection: Collection | None = 
     nz = uu > 0
     g[nz] = (2 * j1(uu[nz]) / uu[nz]) ** 2
     return float(1.0 / np.mean(1.0 / g ** 2))
+
+
+def rotation(attitude_deg) -> np.ndarray:
+    """Rotation matrix of yaw (about z), pitch (about y), roll (about x), applied roll first.
+
+    Parameters
+    ----------
+    attitude_deg : (float, float, float)
+
+    Returns
+    -------
+    float64 (3, 3)
+    """
+    y, p, r = np.radians(np.asarray(attitude_deg, np.float64))
+    Rz = np.array([[math.cos(y), -math.sin(y), 0], [math.sin(y), math.cos(y), 0], [0, 0, 1]])
+    Ry = np.array([[math.cos(p), 0, math.sin(p)], [0, 1, 0], [-math.sin(p), 0, math.cos(p)]])
+    Rx = np.array([[1, 0, 0], [0, math.cos(r), -math.sin(r)], [0, math.sin(r), math.cos(r)]])
+    return Rz @ Ry @ Rx

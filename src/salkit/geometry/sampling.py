@@ -7,17 +7,22 @@ from dataclasses import dataclass
 
 import numpy as np
 
+import lazy_loader as _lazy
+
 from ..constants import SPEED_OF_LIGHT
 from ..errors import SamplingError, ScenarioError
 from ..tolerances import GRID_SPACING_OF_RESOLUTION
 from ..params.models import Scenario
 from ..registry import FORMERS
-from .collection import (Collection, _unit, build_collection, first_null_sin, footprint, image_plane, plane_resolution,
+from .collection import (Collection, _unit, build_collection, rotation, first_null_sin, footprint, image_plane, plane_resolution,
                          processed_angle, scene_point_positions)
+
+_trimesh = _lazy.load("trimesh", suppress_warning=True)
 
 
 def scene_probe_points(scenario: Scenario) -> np.ndarray:
-    """Points that bound the scene: point targets and the corners/edges of the extended scene.
+    """Points that bound the scene: point targets, the corners/edges of the extended scene and the
+    corners of a cube about each 3-D object that holds it whatever its attitude.
 
     Parameters
     ----------
@@ -34,6 +39,15 @@ def scene_probe_points(scenario: Scenario) -> np.ndarray:
         hx, hy = ext.extent[0] / 2, ext.extent[1] / 2
         xs, ys = np.meshgrid([-hx, 0.0, hx], [-hy, 0.0, hy])
         pts.append(np.stack([xs.ravel(), ys.ravel(), np.full(xs.size, ext.height)], axis=1))
+    c = np.array(np.meshgrid([-1.0, 1.0], [-1.0, 1.0], [-1.0, 1.0])).reshape(3, -1).T
+    for obj in scenario.scene.objects:
+        if obj.shape is not None:  # the built-in shapes fit in their size ([x, y, z]; a margin for the models' parts)
+            s = (list(obj.size) + [obj.size[-1]] * 3)[:3] if len(obj.size) > 1 else [obj.size[0]] * 3
+            lo, hi = -0.55 * np.asarray(s, np.float64), 0.55 * np.asarray(s, np.float64)
+        else:
+            lo, hi = (np.asarray(v, np.float64) for v in _trimesh.load(obj.mesh, force="mesh").bounds)
+        box = (lo + hi) / 2 + c * (hi - lo) / 2
+        pts.append(np.asarray(obj.position, np.float64) + obj.scale * box @ rotation(obj.attitude_deg).T)
     return np.concatenate(pts, axis=0)
 
 

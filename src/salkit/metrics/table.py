@@ -252,6 +252,9 @@ _D("r0_spherical_m", "m", "Fried parameter, spherical wave, over the path")
 _D("r0_two_way_m", "m", "two-way coherence length of the path")
 _D("strehl_at_target", "", "intensity at the target over the turbulence-free one", True)
 _D("rytov_spherical", "", "Rytov variance of a spherical wave over the path (scintillation strength)")
+# ---------------------------------------------------------------- 3-D objects
+_D("object_samples_hidden_fraction", "", "fraction of the objects' surface samples facing the sensor that another "
+   "surface hides (shadows)")
 # ---------------------------------------------------------------- lasers of finite linewidth
 _D("peak_power_loss", "", "intensity at the target over a perfectly coherent laser's (theory: the ensemble mean, "
    "exp(-sigma^2) and the pedestal the phase noise leaves)", True)

@@ -1,12 +1,13 @@
 """Figures of images and raw data: an image in dB with its truth, point-target cuts, the raw phase
-history, images side by side, range profiles, impulse-response classes."""
+history, images side by side, range profiles, impulse-response classes, 3-D models seen from the
+sensor."""
 from __future__ import annotations
 
 from pathlib import Path
 
 import numpy as np
 
-from .canvas import _db, _save, _subplots, peak_magnitude
+from .canvas import _db, _save, _subplots, peak_magnitude, plt
 
 
 def image_db(image_ds, path, title: str = "", dynamic_range: float = 40.0, truth=None) -> Path:
@@ -206,3 +207,45 @@ def range_profiles_figure(ds, out) -> Path:
         axes[0, j].legend(fontsize=7)
     axes[0, 0].set_ylabel("dB")
     return _save(fig, out)
+
+
+def model_view_figure(view: dict, path, title: str = "") -> Path:
+    """The 3-D objects as the sensor sees them (seen surfaces shaded by their Lambertian brightness)
+    and from above, the parts hidden from the sensor (shadowed) in red; facing-away surfaces are not
+    drawn from above where a seen or shadowed one lies over them.
+
+    Parameters
+    ----------
+    view : dict
+        :func:`salkit.simulate.targets.model_view`.
+    path : path
+    title : str
+
+    Returns
+    -------
+    Path
+    """
+    fig, (ax, top) = _subplots(1, 2, figsize=(11, 4.6))
+    seen = view["state"] == 0
+    pts = ax.scatter(view["h"][seen], view["v"][seen], c=view["z"][seen], s=1, cmap="viridis", rasterized=True)
+    fig.colorbar(pts, ax=ax, label="height (m)")
+    ax.set_aspect("equal")
+    ax.set_xlabel("across the line of sight, horizontal (m)")
+    ax.set_ylabel("across the line of sight, vertical (m)")
+    ax.set_title("seen from the sensor")
+    order = np.argsort(view["z"])  # from above: each sample drawn over the ones below it
+    order = order[view["state"][order] < 2]
+    z = view["z"][order]
+    norm = plt.Normalize(float(view["z"].min()), float(max(view["z"].max(), view["z"].min() + 1e-9)))
+    colour = plt.cm.viridis(norm(z))
+    colour[view["state"][order] == 1] = (0.84, 0.15, 0.16, 1.0)
+    top.scatter(view["x"][order], view["y"][order], c=colour, s=1, rasterized=True)
+    top.scatter([], [], color=plt.cm.viridis(0.5), s=20, label="seen by the sensor (height)")
+    top.scatter([], [], color=(0.84, 0.15, 0.16), s=20, label="hidden from it (shadowed)")
+    top.set_aspect("equal")
+    top.set_xlabel("x, azimuth (m)")
+    top.set_ylabel("y, ground range (m)")
+    top.set_title("from above (the sensor towards -y)")
+    top.legend(loc="upper right", fontsize=8)
+    fig.suptitle(title or "the 3-D model")
+    return _save(fig, path)

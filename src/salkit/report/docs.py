@@ -24,7 +24,8 @@ FIGURES = (("spotlight_points/image.png", "spotlight_points_image.png"),
            ("downlooking_3d/scene.png", "downlooking_scene.png"),
            ("downlooking_3d/disturbance.png", "downlooking_disturbance.png"),
            ("stripmap_scene/image.png", "stripmap_scene_image.png"),
-           ("sweep_turbulence_cn2/sweep_peak_amplitude.png", "sweep_turbulence_cn2_peak.png"))
+           ("sweep_turbulence_cn2/sweep_peak_amplitude.png", "sweep_turbulence_cn2_peak.png"),
+           ("vehicle_turbulence/model.png", "vehicle_model.png"), ("vehicle_turbulence/image.png", "vehicle_image.png"))
 
 _BLOCK = re.compile(r"(<!-- generated:(?P<name>[a-z_]+) -->\n)(?P<body>.*?)(<!-- /generated:(?P=name) -->)", re.S)
 

@@ -50,6 +50,11 @@ def write_airborne(result: RunResult, out: Path, page: dict | None = None) -> No
         res = fig["autofocus"]
         plot.autofocus_history(res, out / "autofocus.png", title=getattr(res, "title", "autofocus"))
         figs.append(("Autofocus history", "autofocus.png", "Estimated phase error and image sharpness per autofocus iteration"))
+    if fig.get("model_view") is not None:
+        plot.model_view_figure(fig["model_view"], out / "model.png", title=f"{result.name}: the model seen from the sensor")
+        figs.insert(0, ("The 3-D model seen from the sensor", "model.png",
+                        "The scene's objects seen from the aperture centre, surfaces shaded by their Lambertian "
+                        "brightness, the parts hidden from the sensor (shadowed) in red"))
     raw = fig.get("raw")
     if raw is not None and "fast_time" in raw:
         plot.raw_phase_history(raw, out / "raw.png")

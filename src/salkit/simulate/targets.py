@@ -39,6 +39,7 @@ import lazy_loader as _lazy
 import numpy as np
 
 from ..errors import ScenarioError
+from ..geometry.collection import rotation
 from ..registry import SHAPES, SURFACES, declare
 
 _trimesh = _lazy.load("trimesh", suppress_warning=True)
@@ -214,24 +215,6 @@ declare_shape("vehicle", summary="a body, a cabin and four wheels; size [length,
 
 
 # ---------------------------------------------------------------- placing
-def rotation(attitude_deg) -> np.ndarray:
-    """Rotation matrix of yaw (about z), pitch (about y), roll (about x), applied roll first.
-
-    Parameters
-    ----------
-    attitude_deg : (float, float, float)
-
-    Returns
-    -------
-    float64 (3, 3)
-    """
-    y, p, r = np.radians(np.asarray(attitude_deg, np.float64))
-    Rz = np.array([[math.cos(y), -math.sin(y), 0], [math.sin(y), math.cos(y), 0], [0, 0, 1]])
-    Ry = np.array([[math.cos(p), 0, math.sin(p)], [0, 1, 0], [-math.sin(p), 0, math.cos(p)]])
-    Rx = np.array([[1, 0, 0], [0, math.cos(r), -math.sin(r)], [0, math.sin(r), math.cos(r)]])
-    return Rz @ Ry @ Rx
-
-
 def object_parts(obj) -> dict:
     """The parts of a scene object in the scene frame: ``{part: trimesh.Trimesh}``.
 
@@ -437,3 +420,44 @@ def look_turn_deg(positions: np.ndarray, centre: np.ndarray) -> float:
     u = positions - centre
     u /= np.linalg.norm(u, axis=1)[:, None]
     return float(np.degrees(np.arccos(np.clip(u[0] @ u[-1], -1.0, 1.0))))
+
+
+def model_view(objects, sensor: np.ndarray, spacing: float) -> dict:
+    """The objects as the sensor sees them, for a figure: every surface sample projected on the
+    plane across the line of sight (horizontal and vertical axes, m), its Lambertian brightness
+    cos theta, and whether it faces away, is hidden (shadowed: monostatic) or is seen.
+
+    Parameters
+    ----------
+    objects : sequence of SceneObject
+    sensor : float64 (3,)
+        The aperture centre, m.
+    spacing : float
+        Sample spacing, m.
+
+    Returns
+    -------
+    dict
+        ``h``, ``v`` (m), the scene-frame ``x``, ``y``, ``z`` (m), ``brightness``, ``state`` (0
+        seen, 1 hidden, 2 facing away), ``look`` (the unit line of sight, scene to sensor).
+    """
+    sensor = np.asarray(sensor, np.float64)
+    meshes = [m for obj in objects for m in object_parts(obj).values()]
+    scene = _trimesh.util.concatenate(meshes)
+    idx, r1, r2, _ = _stratified(scene, spacing, None)
+    tri = scene.triangles
+    p = tri[idx, 0] + r1[:, None] * (tri[idx, 1] - tri[idx, 0]) + r2[:, None] * (tri[idx, 2] - tri[idx, 0])
+    look = sensor - p
+    look /= np.linalg.norm(look, axis=1)[:, None]
+    cos = np.einsum("ij,ij->i", scene.face_normals[idx], look)
+    state = np.where(cos > 0, 0, 2)
+    front = np.nonzero(cos > 0)[0]
+    eps = 1e-6 * float(np.linalg.norm(scene.extents)) + 1e-5
+    hidden = scene.ray.intersects_any(p[front] + eps * look[front], look[front])
+    state[front[hidden]] = 1
+    lc = sensor / np.linalg.norm(sensor)
+    h = np.cross([0.0, 0.0, 1.0], lc)
+    h /= np.linalg.norm(h)
+    v = np.cross(lc, h)
+    return {"h": p @ h, "v": p @ v, "x": p[:, 0], "y": p[:, 1], "z": p[:, 2], "brightness": np.clip(cos, 0, 1),
+            "state": state, "look": lc}

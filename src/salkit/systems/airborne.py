@@ -14,12 +14,13 @@ import xarray as xr
 from ..errors import ScenarioError
 from ..focus import focus, focus_to_file, image_fits
 from ..geometry.collection import build_collection
-from ..geometry.sampling import check_sampling, n_fast_samples
+from ..geometry.sampling import check_sampling, n_fast_samples, resolution_theory
 from ..metrics.table import warn_undeclared
 from ..metrics import brightest_window, measure, snr_against_truth
 from ..params.models import Processing, Scenario
 from ..params.scenario import dump_scenario, stored_scenario
 from ..constants import SPEED_OF_LIGHT
+from ..simulate.targets import model_view
 from ..simulate.linewidth import expected_peak_power_loss, phase_noise_variance
 from ..simulate import simulate
 from .result import Progress, RunResult, flat_numbers, stage
@@ -252,15 +253,20 @@ def run(scenario: Scenario, out_dir=None, progress: Progress = None) -> RunResul
     metrics.update({f"sampling_{k}": v for k, v in samp.as_dict().items()})
     metrics.update({"n_pulses": raw.sizes["slow_time"], "n_samples": raw.sizes["fast_time"],
                     "simulate_s": t_sim, "focus_s": t_focus,
-                    "extended_scene": int(scenario.scene.extended is not None)})  # targets sit in clutter
+                    "extended_scene": int(scenario.scene.extended is not None or bool(scenario.scene.objects))})  # in clutter
     if scenario.receiver.noise.enabled:
         metrics.update(noise_metrics(scenario, col, raw, image, details))
     if scenario.atmosphere is not None and scenario.scene.extended is None:
         metrics.update(turbulence_metrics(scenario, col, data.get("image_focus.nc", image), metrics["peak_amplitude"]))
-    if scenario.waveform.linewidth > 0 and scenario.scene.extended is None:
+    if scenario.waveform.linewidth > 0 and scenario.scene.extended is None and not scenario.scene.objects:
         metrics.update(linewidth_metrics(scenario, col, data.get("image_focus.nc", image)))
+    view = None
+    if scenario.scene.objects:  # the model as the sensor sees it, shadowed parts marked
+        res = resolution_theory(scenario, col)
+        view = model_view(scenario.scene.objects, col.center_position, min(res["azimuth"], res["slant_range"]) / 2)
+        metrics["object_samples_hidden_fraction"] = float(np.mean(view["state"] == 1) / max(np.mean(view["state"] < 2), 1e-12))
     return RunResult("airborne", scenario.name, scenario.description, dump_scenario(scenario), metrics, data,
-                     figures={"details": details, "autofocus": af_res, "raw": raw,
+                     figures={"details": details, "autofocus": af_res, "raw": raw, "model_view": view,
                               "timings": {"simulate_s": t_sim, "focus_s": t_focus}})
 
 
