@@ -46,7 +46,7 @@ NAMED: dict[str, str] = {
 
 #: Yes/no quantities stored as 0/1 (NetCDF and metrics.json hold no booleans): shown as true/false,
 #: never drawn or judged as a measurement.
-FLAGS = frozenset({"iq", "wavelength_derived", "design_wavelength_derived", "speckle", "beam_weighting",
+FLAGS = frozenset({"iq", "wavelength_derived", "design_wavelength_derived", "speckle", "beam_weighting", "stack_model_3d",
                    "rvp_removed", "noise_added", "collection_time_nominal", "image_out_of_core", "extended_scene",
                    "sweep_perturbed", "sweep_in_clutter"})
 

@@ -18,6 +18,7 @@ from ..io.runfolder import RunFolder
 DEMO_SETS: dict[str, list[str]] = {
     # the full collection is 11,288 sub-images; the demo stacks the 64 nearest closest approach
     "spaceborne_geo": ["stack.max_subimages=64"],
+    "satellite_geo": ["stack.max_subimages=16"],
 }
 #: sweep name -> realisations in the demo (the full study stays one command away:
 #: ``salkit sweep examples/sweeps/NAME.yaml --out DIR``, on a local Dask cluster). The demo runs

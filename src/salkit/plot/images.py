@@ -242,7 +242,7 @@ def model_view_figure(view: dict, path, title: str = "") -> Path:
     top.scatter(view["x"][order], view["y"][order], c=colour, s=1, rasterized=True)
     top.scatter([], [], color=plt.cm.viridis(0.5), s=20, label="seen by the sensor (height)")
     top.scatter([], [], color=(0.84, 0.15, 0.16), s=20, label="hidden from it (shadowed)")
-    top.set_aspect("equal")
+    top.set_aspect("equal", adjustable="datalim")
     top.set_xlabel("x, azimuth (m)")
     top.set_ylabel("y, ground range (m)")
     top.set_title("from above (the sensor towards -y)")

@@ -48,6 +48,26 @@ def verdict(ok: bool | None) -> dict:
 SWEEP_RULES = {"irw_": tol.IRW_RATIO, "image_snr": tol.SNR_RATIO, "snr_": tol.SNR_RATIO}
 
 
+#: Why an IRW is not judged in a scene without point targets.
+NO_TARGET_WHY = ("no point target in the scene: the brightest pixel is the scene's speckle, whose width is not the "
+                 "system's IRW")
+
+
+def no_target(m: dict) -> bool:
+    """Whether a run measured a speckled scene without point targets (its IRWs are a speckle's).
+
+    Parameters
+    ----------
+    m : dict
+        Metrics.
+
+    Returns
+    -------
+    bool
+    """
+    return bool(m.get("extended_scene")) and "target_index" not in m
+
+
 def in_clutter(m: dict) -> bool:
     """Whether the measured target sits in a scene (speckle or other scatterers): its sidelobes then
     hold the scene as well as the response, and PSLR and ISLR have no pass/fail rule.
@@ -141,7 +161,8 @@ def comparison_rows(m: dict) -> list[dict]:
         if irw is not None and th:
             r, ok = ratio_rule(irw, th, tol.IRW_RATIO)
             rows.append(dict(name=f"IRW {ax} (cm)", measured=_fmt(irw, 100), theory=_fmt(th, 100),
-                             delta=f"{r:.4f}", ok=ok, tol=f"ratio 1 +- {tol.IRW_RATIO:g}"))
+                             delta=f"{r:.4f}", ok=None if no_target(m) else ok,
+                             tol=f"{scene_note}: {NO_TARGET_WHY}" if no_target(m) else f"ratio 1 +- {tol.IRW_RATIO:g}"))
         for what, tolerance in (("pslr", tol.PSLR_DB), ("islr", tol.ISLR_DB)):
             v, vt = m.get(f"{what}_{ax}_db"), m.get(f"{what}_{ax}_theory_db")
             if v is not None and vt is not None:
@@ -259,7 +280,10 @@ def headline(metrics: dict) -> list[dict]:
         single = _ratio_item("single sub-image SNR", m, "snr_single", "snr_single_theory", tol.SNR_RATIO,
                              "eq 15 (uniform area)")
         if single is not None:  # eq 15 holds for a uniform area; the satellite's edges lower it (docs/spaceborne.md)
-            single["ok"], single["why"] = None, "eq 15 holds for a uniform area; the satellite's edges lower it"
+            single["ok"], single["why"] = None, ("eq 15 is for a uniform area of unit reflectance; a 3-D model's faces "
+                                                 "pile into the image cells (more photons a cell)"
+                                                 if m.get("stack_model_3d") else
+                                                 "eq 15 holds for a uniform area; the satellite's edges lower it")
         items.append(single)
         if m.get("snr_single") and m.get("stack_count"):
             gain, want = m["snr_stack"] / m["snr_single"], m["stack_count"] ** 0.5
@@ -289,8 +313,13 @@ def headline(metrics: dict) -> list[dict]:
                           "reference": "turbulence-free 1", "delta": "", "ok": None,
                           "why": "one realisation of the screens; theory gives ensemble figures (salkit sweep)"})
     else:  # a plain scenario or an outside file
-        items += [_ratio_item("range IRW", m, "irw_range_m", "irw_range_theory_m", tol.IRW_RATIO),
-                  _ratio_item("azimuth IRW", m, "irw_azimuth_m", "irw_azimuth_theory_m", tol.IRW_RATIO)]
+        irws = [_ratio_item("range IRW", m, "irw_range_m", "irw_range_theory_m", tol.IRW_RATIO),
+                _ratio_item("azimuth IRW", m, "irw_azimuth_m", "irw_azimuth_theory_m", tol.IRW_RATIO)]
+        if no_target(m):
+            for i in irws:
+                if i is not None:
+                    i["ok"], i["why"] = None, NO_TARGET_WHY
+        items += irws
         if "pslr_range_db" in m and "pslr_range_theory_db" in m and not in_clutter(m):  # judge what theory predicts
             d, ok = difference_rule(m["pslr_range_db"], m["pslr_range_theory_db"], tol.PSLR_DB)
             items.append({"label": "range PSLR", "measured": f"{m['pslr_range_db']:.2f} dB",

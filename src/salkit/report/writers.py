@@ -145,7 +145,10 @@ def write_spaceborne(result: RunResult, out: Path, page: dict | None = None) -> 
     if "coherent" in f:
         plot.coherent_stack_figure(f["coherent"]["image"], f["stack"], f["az"], f["rg"], f["coherent"]["resolution"],
                                    out / "coherent.png")
+    if f.get("model_view") is not None:
+        plot.model_view_figure(f["model_view"], out / "model.png", title=f"{result.name}: the model seen from the sensor")
     render(out, "spaceborne.html", result, page, coherent=f.get("coherent", {}).get("resolution"),
+           model=f.get("model_view") is not None,
            trajectory=f.get("trajectory"), processings={"true": "true positions (BP)", "tangent": "tangent line",
                                                         "line": "seed's straight line"},
            grid_dx=float(f["az"][1] - f["az"][0]))

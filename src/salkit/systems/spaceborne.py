@@ -14,13 +14,13 @@ from pathlib import Path
 
 import numpy as np
 import zarr
-from scipy.ndimage import binary_erosion
+from scipy.ndimage import binary_erosion, gaussian_filter
 
 from ..focus import focus
 from ..geometry.collection import build_collection, grid_axes, plane_from
 from ..geometry.orbit import (collection_span, max_squint_for, n_subimages, relative_speed, resolution_vs_squint,
                               subaperture_length)
-from ..geometry.sampling import check_sampling, n_fast_samples
+from ..geometry.sampling import check_sampling, n_fast_samples, resolution_theory
 from ..io.datasets import make_image_dataset
 from ..metrics import measure, split_snr, stack_snr
 from ..metrics.pointtarget import ipr_1d
@@ -28,6 +28,7 @@ from ..params.models import Scenario
 from ..params.scenario import dump_scenario, parse_scenario
 from ..resources import check_memory
 from ..simulate import signal_scale, simulate
+from ..simulate.targets import model_view
 from ..simulate.scene import pattern_mask
 from ..stack import (coherent_resolution, coherent_stack, geo_base, nearest_squints, point_target, run_stack,
                      stack_memory_estimate, subimage, uncorrect)
@@ -318,6 +319,9 @@ def run(scenario: Scenario, out_dir, progress: Progress = None) -> RunResult:
     truth = truth_image(base, az, rg)
     i0 = int(np.argmin(np.abs(squints)))  # one photon-limited sub-image at closest approach, and its twin
     single, clean = subimage(base, squints[i0], i0, noise=True), subimage(base, squints[i0], i0, noise=False)
+    if truth.max() == 0 and base.scene.objects:  # a 3-D model: where its noise-free sub-image is (smoothed)
+        truth = gaussian_filter(np.abs(clean) ** 2, 3.0)
+        truth /= truth.max()
     mask = binary_erosion(truth > 0.5 * truth.max(), iterations=2) if truth.max() > 0 else np.ones(truth.shape, bool)
     n_th = signal_scale(base, col, n_fast_samples(base, col)) ** 2 / nz.cnr if nz.enabled else 0.0
     metrics.update(snr_single=stack_snr(np.abs(single) ** 2, np.abs(clean) ** 2, mask), snr_single_theory=nz.snr_theory)
@@ -345,6 +349,11 @@ def run(scenario: Scenario, out_dir, progress: Progress = None) -> RunResult:
     figures = {"truth": truth, "fig7": fig7, "single": np.abs(single), "stack": np.sqrt(stacked), "counts": counts,
                "curve": curve, "snr_theory": nz.snr_theory, "az": az, "rg": rg, "squints": sq_meas, "measured": meas,
                "L0": exp.r2 - exp.r1, "sub_length": sub_len, "wavelength": base.waveform.wavelength}
+    if base.scene.objects:  # the model as the closest-approach sub-aperture sees it, shadowed parts marked
+        res = resolution_theory(base, col)
+        figures["model_view"] = model_view(base.scene.objects, col.center_position,
+                                           min(res["azimuth"], res["slant_range"]) / 2)
+        metrics["stack_model_3d"] = 1
     if coherent:
         m, figures["coherent"] = coherent_part(base, store, len(squints), mask, metrics["snr_stack"])
         metrics.update(m)
