@@ -138,6 +138,44 @@ class Registry(Generic[T]):
             self._entries[name] = declaration
         return declaration
 
+    def declare(self, cls: type, name: str, **properties):
+        """Build the declaration ``cls(name=name, **properties)`` (:func:`declare`: unknown and
+        missing properties refused by name) and register it under ``name``.
+
+        Parameters
+        ----------
+        cls : dataclass type
+        name : str
+        **properties
+
+        Returns
+        -------
+        object
+            The declaration.
+        """
+        return self.add(name, declare(cls, f"{self.kind} {name!r}", name=name, **properties))
+
+    def require(self, name):
+        """``name`` if declared, else a ``ValueError`` with the constraint (for the scenario models'
+        validators, which report it with the field).
+
+        Parameters
+        ----------
+        name : object
+
+        Returns
+        -------
+        object
+            ``name``.
+
+        Raises
+        ------
+        ValueError
+        """
+        if name not in self:
+            raise ValueError(str(self.unknown(name).constraint))
+        return name
+
     def remove(self, name: str) -> None:
         """Take ``name`` out (a test's own entry, when it is done).
 

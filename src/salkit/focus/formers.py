@@ -26,7 +26,7 @@ import numpy as np
 from ..choices import ACCURACY
 from ..geometry.collection import ImagePlane, grid_axes, plane_from
 from ..params.models import Grid
-from ..registry import FORMERS, declare
+from ..registry import FORMERS
 from ..signals.windows import Window
 from .phasehistory import PhaseHistory
 from ..tolerances import BP_UPSAMPLE
@@ -281,8 +281,7 @@ def register_former(name: str, **declaration) -> Callable[[Former], Former]:
         For a name already declared, or a property out of its range.
     """
     def deco(fn: Former) -> Former:
-        spec = declare(FormerSpec, f"image former {name!r}", name=name, form=fn, **declaration)
-        FORMERS.add(name, spec)
+        spec = FORMERS.declare(FormerSpec, name, form=fn, **declaration)
         fn.spec = spec
         return fn
     return deco

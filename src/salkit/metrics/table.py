@@ -75,8 +75,7 @@ def declare_metric(name: str, unit: str, meaning: str, theory: bool | str | None
     """
     partner = theory_name(name) if theory is True else (theory or None)
     spec = declare(MetricSpec, f"metric {name!r}", name=name, unit=unit, meaning=meaning, theory=partner)
-    METRICS.add(name.replace("{}", "N").replace("{word}", "X"), spec)
-    return spec
+    return METRICS.add(name.replace("{}", "N").replace("{word}", "X"), spec)  # its key an identifier
 
 
 def lookup(name: str) -> Optional[MetricSpec]:

@@ -217,23 +217,17 @@ class ExtendedScene(_Frozen):
     @field_validator("kind")
     @classmethod
     def _declared_kind(cls, v: str) -> str:
-        if v not in OBJECT_KINDS:
-            raise ValueError(str(OBJECT_KINDS.unknown(v).constraint))
-        return v
+        return OBJECT_KINDS.require(v)
 
     @field_validator("pattern")
     @classmethod
     def _declared_pattern(cls, v: str) -> str:
-        if v not in PATTERNS:
-            raise ValueError(str(PATTERNS.unknown(v).constraint))
-        return v
+        return PATTERNS.require(v)
 
     @field_validator("material")
     @classmethod
     def _declared_material(cls, v: Optional[str]) -> Optional[str]:
-        if v is not None and v not in MATERIALS:
-            raise ValueError(str(MATERIALS.unknown(v).constraint))
-        return v
+        return v if v is None else MATERIALS.require(v)
 
     @model_validator(mode="after")
     def _file(self) -> "ExtendedScene":
@@ -262,9 +256,7 @@ class SurfaceMaterial(_Frozen):
     @field_validator("kind")
     @classmethod
     def _declared_surface(cls, v: str) -> str:
-        if v not in SURFACES:
-            raise ValueError(str(SURFACES.unknown(v).constraint))
-        return v
+        return SURFACES.require(v)
 
 
 class SceneObject(_Frozen):
@@ -287,9 +279,7 @@ class SceneObject(_Frozen):
     @field_validator("shape")
     @classmethod
     def _declared_shape(cls, v):
-        if v is not None and v not in SHAPES:
-            raise ValueError(str(SHAPES.unknown(v).constraint))
-        return v
+        return v if v is None else SHAPES.require(v)
 
     @model_validator(mode="after")
     def _one_source(self) -> "SceneObject":
@@ -439,9 +429,7 @@ class Processing(_Frozen):
     @field_validator("algorithm")
     @classmethod
     def _declared_former(cls, v: str) -> str:
-        if v not in FORMERS:
-            raise ValueError(str(FORMERS.unknown(v).constraint))
-        return v
+        return FORMERS.require(v)
 
 
 # --------------------------------------------------------------------------- atmosphere

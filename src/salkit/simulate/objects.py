@@ -23,7 +23,7 @@ import lazy_loader as _lazy
 import numpy as np
 
 from ..errors import ScenarioError
-from ..registry import MATERIALS, OBJECT_KINDS, PATTERNS, declare
+from ..registry import MATERIALS, OBJECT_KINDS, PATTERNS
 
 _scipy_ndimage = _lazy.load("scipy.ndimage", suppress_warning=True)
 
@@ -102,7 +102,7 @@ def declare_object_kind(name: str, **declaration) -> ObjectKind:
     -------
     ObjectKind
     """
-    return OBJECT_KINDS.add(name, declare(ObjectKind, f"scene object kind {name!r}", name=name, **declaration))
+    return OBJECT_KINDS.declare(ObjectKind, name, **declaration)
 
 
 def declare_pattern(name: str, **declaration) -> Pattern:
@@ -118,7 +118,7 @@ def declare_pattern(name: str, **declaration) -> Pattern:
     -------
     Pattern
     """
-    return PATTERNS.add(name, declare(Pattern, f"pattern {name!r}", name=name, **declaration))
+    return PATTERNS.declare(Pattern, name, **declaration)
 
 
 def declare_material(name: str, **declaration) -> Material:
@@ -134,7 +134,7 @@ def declare_material(name: str, **declaration) -> Material:
     -------
     Material
     """
-    return MATERIALS.add(name, declare(Material, f"material {name!r}", name=name, **declaration))
+    return MATERIALS.declare(Material, name, **declaration)
 
 
 # ---------------------------------------------------------------- patterns

@@ -40,7 +40,7 @@ import numpy as np
 
 from ..errors import ScenarioError
 from ..geometry.collection import rotation
-from ..registry import SHAPES, SURFACES, declare
+from ..registry import SHAPES, SURFACES
 
 _trimesh = _lazy.load("trimesh", suppress_warning=True)
 
@@ -101,7 +101,7 @@ def declare_shape(name: str, **declaration) -> Shape:
     -------
     Shape
     """
-    return SHAPES.add(name, declare(Shape, f"shape {name!r}", name=name, **declaration))
+    return SHAPES.declare(Shape, name, **declaration)
 
 
 def declare_surface(name: str, **declaration) -> Surface:
@@ -117,7 +117,7 @@ def declare_surface(name: str, **declaration) -> Surface:
     -------
     Surface
     """
-    return SURFACES.add(name, declare(Surface, f"surface kind {name!r}", name=name, **declaration))
+    return SURFACES.declare(Surface, name, **declaration)
 
 
 # ---------------------------------------------------------------- surfaces
@@ -291,7 +291,7 @@ def _glint(mesh, tris, look, wavelength):
 def _stratified(mesh, spacing: float, rng):
     """Samples of every triangle: each cut into m^2 equal triangles (m = its side over ``spacing``),
     one sample in each, at its centroid (a regular lattice: a smooth surface images flat) or, given
-    ``rng``, uniformly within it (a rough one). Returns (triangle index, barycentric r1, r2, area)."""
+    ``rng``, uniformly within it (a rough one). Returns (triangle index, position (N, 3) m, area m^2)."""
     area = mesh.area_faces
     m_of = np.maximum(1, np.ceil(np.sqrt(2.0 * area) / spacing).astype(int))
     idx, r1, r2, dA = [], [], [], []
@@ -319,7 +319,24 @@ def _stratified(mesh, spacing: float, rng):
         r2.append(np.where(fl, b + 1 - v, b + v) / m)
         idx.append(T)
         dA.append(np.repeat(area[tris] / k, k))
-    return np.concatenate(idx), np.concatenate(r1), np.concatenate(r2), np.concatenate(dA)
+    idx, r1, r2 = np.concatenate(idx), np.concatenate(r1), np.concatenate(r2)
+    tri = mesh.triangles
+    pos = tri[idx, 0] + r1[:, None] * (tri[idx, 1] - tri[idx, 0]) + r2[:, None] * (tri[idx, 2] - tri[idx, 0])
+    return idx, pos, np.concatenate(dA)
+
+
+def _looks(pos: np.ndarray, sensor: np.ndarray) -> np.ndarray:
+    """Unit vectors from each point towards the sensor."""
+    look = sensor - pos
+    return look / np.linalg.norm(look, axis=1)[:, None]
+
+
+def _hidden(scene, pos: np.ndarray, sensor: np.ndarray) -> np.ndarray:
+    """Whether another surface of ``scene`` lies between each point and the sensor (a ray cast from
+    just off the point; monostatic: hidden is shadowed)."""
+    look = _looks(pos, sensor)
+    eps = 1e-6 * float(np.linalg.norm(scene.extents)) + 1e-5
+    return scene.ray.intersects_any(pos + eps * look, look)
 
 
 def object_scatterers(objects, sensor: np.ndarray, cell_area: float, spacing: float, wavelength: float,
@@ -375,11 +392,8 @@ def object_scatterers(objects, sensor: np.ndarray, cell_area: float, spacing: fl
                 pos_all.append(centre[None, :])
                 amp_all.append(np.array([sign * math.sqrt(sigma / cell_area)], np.complex128))
             continue
-        idx, r1, r2, dA = _stratified(mesh, spacing, rng if mat.speckle else None)
-        tri = mesh.triangles
-        p = tri[idx, 0] + r1[:, None] * (tri[idx, 1] - tri[idx, 0]) + r2[:, None] * (tri[idx, 2] - tri[idx, 0])
-        look = sensor - p
-        look /= np.linalg.norm(look, axis=1)[:, None]
+        idx, p, dA = _stratified(mesh, spacing, rng if mat.speckle else None)
+        look = _looks(p, sensor)
         cos = np.einsum("ij,ij->i", mesh.face_normals[idx], look)
         power = surf.sigma0(cos, mat) * dA / cell_area
         keep = (cos > 0) & (power > 0)
@@ -395,10 +409,7 @@ def object_scatterers(objects, sensor: np.ndarray, cell_area: float, spacing: fl
     pos = np.concatenate(pos_all) if pos_all else np.zeros((0, 3))
     amp = np.concatenate(amp_all) if amp_all else np.zeros(0, np.complex128)
     if pos.shape[0]:
-        look = sensor - pos
-        look /= np.linalg.norm(look, axis=1)[:, None]
-        eps = 1e-6 * float(np.linalg.norm(scene.extents)) + 1e-5
-        hidden = scene.ray.intersects_any(pos + eps * look, look)  # monostatic: hidden is shadowed
+        hidden = _hidden(scene, pos, sensor)
         pos, amp = pos[~hidden], amp[~hidden]
     return pos, amp
 
@@ -444,16 +455,12 @@ def model_view(objects, sensor: np.ndarray, spacing: float) -> dict:
     sensor = np.asarray(sensor, np.float64)
     meshes = [m for obj in objects for m in object_parts(obj).values()]
     scene = _trimesh.util.concatenate(meshes)
-    idx, r1, r2, _ = _stratified(scene, spacing, None)
-    tri = scene.triangles
-    p = tri[idx, 0] + r1[:, None] * (tri[idx, 1] - tri[idx, 0]) + r2[:, None] * (tri[idx, 2] - tri[idx, 0])
-    look = sensor - p
-    look /= np.linalg.norm(look, axis=1)[:, None]
+    idx, p, _ = _stratified(scene, spacing, None)
+    look = _looks(p, sensor)
     cos = np.einsum("ij,ij->i", scene.face_normals[idx], look)
     state = np.where(cos > 0, 0, 2)
     front = np.nonzero(cos > 0)[0]
-    eps = 1e-6 * float(np.linalg.norm(scene.extents)) + 1e-5
-    hidden = scene.ray.intersects_any(p[front] + eps * look[front], look[front])
+    hidden = _hidden(scene, p[front], sensor)
     state[front[hidden]] = 1
     lc = sensor / np.linalg.norm(sensor)
     h = np.cross([0.0, 0.0, 1.0], lc)
