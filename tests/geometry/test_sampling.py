@@ -76,3 +76,11 @@ def test_the_probe_points_hold_every_object_turned():
     pts = scene_probe_points(sc)
     assert np.ptp(pts[:, 1]) == pytest.approx(4.4) and np.ptp(pts[:, 0]) == pytest.approx(1.1)  # yawed 90 deg
     assert pts[:, 2].max() == pytest.approx(0.5 + 0.55)
+
+
+def test_an_unreadable_mesh_is_refused_before_any_work(tmp_path):
+    from salkit.geometry.sampling import scene_probe_points
+    (tmp_path / "bad.stl").write_text("not a mesh")
+    sc = parse_scenario(merge(SPOT, scene={"objects": [{"mesh": str(tmp_path / "bad.stl")}]}))
+    with pytest.raises(ScenarioError, match="scene.objects.mesh"):
+        scene_probe_points(sc)

@@ -120,6 +120,8 @@ def test_shapes_meshes_and_refusals(tmp_path):
         SceneObject()
     with pytest.raises(ValueError, match="is not a declared shape"):
         SceneObject(shape="torus")
+    with pytest.raises(ValueError, match="mesh = .*: file does not exist"):
+        SceneObject(mesh=str(tmp_path / "missing.stl"))
     (tmp_path / "bad.stl").write_text("not a mesh")
     with pytest.raises(ScenarioError, match="scene.objects.mesh"):
         object_parts(SceneObject(mesh=str(tmp_path / "bad.stl")))

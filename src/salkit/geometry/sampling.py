@@ -45,7 +45,10 @@ def scene_probe_points(scenario: Scenario) -> np.ndarray:
             s = (list(obj.size) + [obj.size[-1]] * 3)[:3] if len(obj.size) > 1 else [obj.size[0]] * 3
             lo, hi = -0.55 * np.asarray(s, np.float64), 0.55 * np.asarray(s, np.float64)
         else:
-            lo, hi = (np.asarray(v, np.float64) for v in _trimesh.load(obj.mesh, force="mesh").bounds)
+            try:
+                lo, hi = (np.asarray(v, np.float64) for v in _trimesh.load(obj.mesh, force="mesh").bounds)
+            except Exception as err:  # noqa: BLE001 - any reader failure is a bad file
+                raise ScenarioError("scene.objects.mesh", obj.mesh, f"cannot be read as a mesh ({err})") from None
         box = (lo + hi) / 2 + c * (hi - lo) / 2
         pts.append(np.asarray(obj.position, np.float64) + obj.scale * box @ rotation(obj.attitude_deg).T)
     return np.concatenate(pts, axis=0)

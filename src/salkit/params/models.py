@@ -285,6 +285,8 @@ class SceneObject(_Frozen):
     def _one_source(self) -> "SceneObject":
         if (self.shape is None) == (self.mesh is None):
             raise FieldProblem("shape", self.shape, "give exactly one of shape and mesh")
+        if self.mesh is not None and not Path(self.mesh).is_file():
+            raise FieldProblem("mesh", self.mesh, "file does not exist")
         if any(not (0 < v <= 1e4) for v in self.size):
             raise FieldProblem("size", list(self.size), "each must be in (0, 1e4] m")
         return self
