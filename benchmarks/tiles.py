@@ -195,7 +195,7 @@ from common import spotlight_scenario
 from salkit.simulate.sal import simulate_to_file
 sc = spotlight_scenario({swath}, {pulses}, speed={speed})  # an ADC for a {swath}-pixel range swath
 t0 = time.perf_counter()
-simulate_to_file(sc, {folder!r} + "/raw.nc", memory_limit=2 * 2 ** 30)
+simulate_to_file(sc, {folder!r} + "/raw.nc", memory_limit=4 * 2 ** 30)
 print(json.dumps({{"seconds": time.perf_counter() - t0,
                   "peak_rss": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024}}))
 '''

@@ -23,6 +23,8 @@ IMAGE_AUTOFOCUS_METHODS = ("none", "pga", "min-entropy")
 PGA_KERNELS = ("pd", "lumv", "ev")
 #: Nonlinear-chirp corrections from the reference channel.
 CHIRP_CORRECTIONS = ("none", "resample", "deskew")
+#: Laser phase-noise corrections: none, or the reference channel's per-pulse record removed.
+PHASE_NOISE_CORRECTIONS = ("none", "reference")
 
 
 def check_choice(field: str, value, allowed: tuple) -> None:

@@ -23,7 +23,7 @@ def test_image_and_raw_figures(tmp_path):
 
 def test_the_model_figure(tmp_path):
     from salkit.params.models import SceneObject
-    from salkit.simulate.targets import model_view
+    from salkit.simulate.views import model_view
     scene = [SceneObject(shape="plate", size=(4, 4)), SceneObject(shape="vehicle", size=(2, 1, 1), position=(0, 0, 0.5))]
     view = model_view(scene, np.array([0.0, -4000.0, 3000.0]), 0.05)
     p = plot.model_view_figure(view, tmp_path / "model.png", title="a car")

@@ -1,16 +1,10 @@
 """Down-looking raw data: the factored simulation equals the field kernel."""
-import copy
-import math
 
 import numpy as np
 import pytest
 
-from salkit.errors import SamplingError, ScenarioError
-from salkit.geometry.downlooking import design, design_from_requirements
-from salkit.interferometry import fringe_period, interferogram
-from salkit.params import load_scenario, parse_scenario
+from salkit.geometry.downlooking import design
 from salkit.simulate.downlooking import make_scatterers, simulate_factored, simulate_fields, track_positions
-from salkit.systems.downlooking import disturbance_experiment, extended_run, point_run, terrain_run
 
 from ..conftest import DL_EXAMPLE as EXAMPLE, EXAMPLES, dl_scenario as scenario  # noqa: F401
 

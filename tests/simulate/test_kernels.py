@@ -1,5 +1,4 @@
 """The numba echo kernels against the closed form, and the exact kernel against the fast one."""
-import math
 
 import numpy as np
 import pytest
@@ -8,11 +7,11 @@ from salkit.simulate.linewidth import NO_PHASE_NOISE
 from salkit.geometry import build_collection
 from salkit.geometry.collection import beam_gain_table
 from salkit.params import parse_scenario
-from salkit.simulate import echo_signal, fast_time_axis, simulate
+from salkit.simulate import echo_signal, fast_time_axis
 from salkit.simulate.echoes import _NO_PATH
 from salkit.simulate.kernels import simulate_exact
 
-from ..conftest import GEO, SPOT, merge
+from ..conftest import GEO, SPOT
 
 
 C = 299792458.0

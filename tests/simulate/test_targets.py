@@ -14,7 +14,8 @@ from salkit.errors import ScenarioError
 from salkit.params import parse_scenario
 from salkit.params.models import SceneObject
 from salkit.registry import SHAPES, SURFACES
-from salkit.simulate.targets import _glint, _plate, object_parts, object_scatterers
+from salkit.simulate.targets import _glint, _plate, object_parts
+from salkit.simulate.views import object_scatterers
 
 from ..conftest import SPOT, merge
 
@@ -128,7 +129,7 @@ def test_shapes_meshes_and_refusals(tmp_path):
 
 
 def test_the_model_seen_from_the_sensor():
-    from salkit.simulate.targets import model_view
+    from salkit.simulate.views import model_view
     sensor = np.array([0.0, -4000.0, 3000.0])
     box = model_view([SceneObject(shape="box", size=(1, 1, 1), position=(0, 0, 0.5))], sensor, 0.05)
     assert [np.mean(box["state"] == k) for k in (0, 1, 2)] == pytest.approx([1 / 3, 0.0, 2 / 3], abs=1e-9)

@@ -160,7 +160,7 @@ def as_dataset(ph: PhaseHistory, data: np.ndarray, attrs: dict | None = None) ->
 
 
 def pulse_autofocus(raw: xr.Dataset, grid: Grid | None = None, *, chirp_correction: str = "none",
-                    plane: str | None = None, max_sweeps: int = 10, tol: float = 1e-3,
+                    phase_noise_correction: str = "none", plane: str | None = None, max_sweeps: int = 10, tol: float = 1e-3,
                     max_entries: int = MAX_ENTRIES, upsample: int = BP_UPSAMPLE,
                     support: str = "scene") -> tuple[xr.Dataset, PulseAutofocusResult]:
     """Estimate one phase per pulse by backprojection sharpness and correct the phase history.
@@ -175,6 +175,8 @@ def pulse_autofocus(raw: xr.Dataset, grid: Grid | None = None, *, chirp_correcti
         number of pulses.
     chirp_correction : {"none", "resample", "deskew"}
         Range-compression option, as in :func:`salkit.focus.focus`.
+    phase_noise_correction : {"none", "reference"}
+        Range-compression option, as ``processing.phase_noise_correction``.
     plane : {"slant", "ground"}, optional
         Overrides the grid's plane.
     max_sweeps : int
@@ -200,7 +202,7 @@ def pulse_autofocus(raw: xr.Dataset, grid: Grid | None = None, *, chirp_correcti
     ScenarioError
         A grid with plane other than slant or ground.
     """
-    ph = phase_history(raw, chirp_correction)
+    ph = phase_history(raw, chirp_correction, phase_noise_correction)
     g = grid if grid is not None else default_grid(ph, plane=plane or "slant")
     if plane is not None:
         check_choice("plane", plane, PLANES)
@@ -252,7 +254,8 @@ def pulse_metrics(res: PulseAutofocusResult, prefix: str = "autofocus") -> dict:
     return out
 
 
-def pulse_correct(raw: xr.Dataset, grid: Grid, chirp_correction: str = "none") -> tuple[xr.Dataset, dict]:
+def pulse_correct(raw: xr.Dataset, grid: Grid, chirp_correction: str = "none",
+                  phase_noise_correction: str = "none") -> tuple[xr.Dataset, dict]:
     """Per-pulse autofocus of ``raw`` on ``grid``: the corrected phase history and its metrics
     (:func:`pulse_metrics` and ``autofocus_s``, the seconds it took).
 
@@ -264,19 +267,23 @@ def pulse_correct(raw: xr.Dataset, grid: Grid, chirp_correction: str = "none") -
         The output grid (m); the sharpness is measured over the scene around it (:func:`support_grid`).
     chirp_correction : str
         As ``processing.chirp_correction``.
+    phase_noise_correction : str
+        As ``processing.phase_noise_correction``.
 
     Returns
     -------
     (xarray.Dataset, dict)
     """
-    corrected, res = pulse_autofocus(raw, grid, chirp_correction=chirp_correction)
+    corrected, res = pulse_autofocus(raw, grid, chirp_correction=chirp_correction,
+                                     phase_noise_correction=phase_noise_correction)
     m = pulse_metrics(res)
     m["autofocus_s"] = float(corrected.attrs.get("autofocus_s", 0.0))
     return corrected, m
 
 
 def pulse_focus(raw: xr.Dataset, form: Callable[..., xr.Dataset], chirp_correction: str = "none",
-                progress: Optional[Callable[[int, int], None]] = None) -> tuple[xr.Dataset, xr.Dataset, dict]:
+                progress: Optional[Callable[[int, int], None]] = None,
+                phase_noise_correction: str = "none") -> tuple[xr.Dataset, xr.Dataset, dict]:
     """Focus with per-pulse autofocus: form the image, estimate one phase per pulse on its grid
     (:func:`pulse_correct`), form the image of the corrected data.
 
@@ -291,6 +298,8 @@ def pulse_focus(raw: xr.Dataset, form: Callable[..., xr.Dataset], chirp_correcti
         As ``processing.chirp_correction``.
     progress : callable, optional
         ``progress(done, total)`` of the final image's formation.
+    phase_noise_correction : str
+        As ``processing.phase_noise_correction``.
 
     Returns
     -------
@@ -299,7 +308,7 @@ def pulse_focus(raw: xr.Dataset, form: Callable[..., xr.Dataset], chirp_correcti
         image before correction, and the autofocus metrics.
     """
     before = form(raw)
-    corrected, metrics = pulse_correct(raw, grid_of(before), chirp_correction)
+    corrected, metrics = pulse_correct(raw, grid_of(before), chirp_correction, phase_noise_correction)
     image = form(corrected, progress=progress)
     # the correction applied, kept with the image: a white error fixes the image only up to an azimuth
     # shift (the linear term), which a user registers with it against a reference (docs/performance.md)

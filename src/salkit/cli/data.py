@@ -9,7 +9,7 @@ from typing import Optional
 import typer
 
 from .app import _Bar, _command_line, _guard, out
-from .options import (NO_ORIGIN, _check_out_file, _export_sicd, _grid, _origin, _report_check, _summary,
+from .options import (NO_ORIGIN, _check_dask_options, _check_out_file, _export_sicd, _grid, _origin, _report_check, _summary,
                       apply_memory_limit)
 
 
@@ -35,7 +35,6 @@ def focus(raw: Path = typer.Argument(..., metavar="RAW", help="raw or phase-hist
     """Focus a raw file (.nc, .cphd or GOTCHA .mat) into image.nc, metrics.json, figures and report.html."""
     from ..choices import ACCURACY, AUTOFOCUS_METHODS, PGA_KERNELS, PLANES, WINDOWS, check_choice
     from ..errors import ScenarioError
-    from ..params.models import StackSettings
     from ..report import write_run
     from ..systems.airborne import focus_file
     from ..registry import FORMERS
@@ -75,13 +74,7 @@ def focus(raw: Path = typer.Argument(..., metavar="RAW", help="raw or phase-hist
         src = "the scenario stored in the file" if "scenario" in ds.attrs else "the default (256 x 256 at 0.8 of the resolution)"
         out.print(f"--plane {plane} without --nx/--ny/--dx/--dy: grid size and spacing from {src}, "
                   f"in the {plane} plane", highlight=False)
-    if workers is not None and workers < 1:
-        raise ScenarioError("--workers", workers, "must be >= 1")
-    if scheduler is not None:  # the address's form, checked before any work (the stack's rule)
-        try:
-            StackSettings(scheduler=scheduler)
-        except ValueError as e:
-            raise ScenarioError("--scheduler", scheduler, "must look like tcp://HOST:PORT (or HOST:PORT)") from e
+    _check_dask_options(workers, scheduler)
     RunFolder(out_dir, overwrite=overwrite)._check_target()  # before any work
     with RunFolder(out_dir, overwrite=overwrite) as tmp:
         with _dask_or_not(workers, scheduler) as client, _Bar() as bar:

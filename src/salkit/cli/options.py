@@ -128,3 +128,17 @@ def _export_sicd(src: Path, dst: Path, origin: Optional[str]) -> None:
     write_sicd(img, dst, origin=_origin(origin))
     _report_check(check_sicd(dst))
     out.print(f"wrote {dst} (SICD 1.3.0; sarkit consistency check: 0 errors)", highlight=False)
+
+
+def _check_dask_options(workers: Optional[int], scheduler: Optional[str]) -> None:
+    """``--workers`` and ``--scheduler`` checked before any work (the address's form: the stack's
+    rule)."""
+    from ..errors import ScenarioError
+    from ..params.models import StackSettings
+    if workers is not None and workers < 1:
+        raise ScenarioError("--workers", workers, "must be >= 1")
+    if scheduler is not None:
+        try:
+            StackSettings(scheduler=scheduler)
+        except ValueError as e:
+            raise ScenarioError("--scheduler", scheduler, "must look like tcp://HOST:PORT (or HOST:PORT)") from e

@@ -8,7 +8,7 @@ from typing import List, Optional
 import typer
 
 from .app import _Bar, _command_line, _guard, out
-from .options import _check_out_file, _preflight, _summary, apply_memory_limit
+from .options import _check_dask_options, _check_out_file, _preflight, _summary, apply_memory_limit
 
 
 @_guard
@@ -45,7 +45,9 @@ def simulate(scenario: Path = typer.Argument(..., metavar="SCENARIO.yaml", help=
              out: Path = typer.Option(..., "--out", metavar="FILE.nc", help="raw NetCDF file to write (complex echoes, slow time x fast time, s)"),
              set_: List[str] = typer.Option([], "--set", metavar="KEY=VALUE", help="override a field in its SI unit, e.g. waveform.prf=2000 (Hz); repeatable"),
              overwrite: bool = typer.Option(False, "--overwrite", help="replace an existing file"),
-             memory_limit: Optional[str] = typer.Option(None, "--memory-limit", metavar="SIZE", help="memory budget, e.g. 4GiB (default: what is available): a history bigger than it is simulated and written a block of pulses at a time (the same numbers)")):
+             memory_limit: Optional[str] = typer.Option(None, "--memory-limit", metavar="SIZE", help="memory budget, e.g. 4GiB (default: what is available): a history bigger than it is simulated and written a block of pulses at a time (the same numbers)"),
+             workers: Optional[int] = typer.Option(None, metavar="N", help="compute the blocks of pulses on a local Dask cluster of N worker processes (the same numbers; each worker holds the scene)"),
+             scheduler: Optional[str] = typer.Option(None, metavar="ADDRESS", help="compute the blocks on an existing Dask cluster, e.g. tcp://host:8786 (mesh files at paths the workers reach)")):
     """Simulate raw dechirped data and write it to a NetCDF file."""
     from ..focus.pipeline import memory_budget
     from ..io import write_dataset
@@ -57,6 +59,19 @@ def simulate(scenario: Path = typer.Argument(..., metavar="SCENARIO.yaml", help=
     _check_out_file(out, overwrite)
     sc = load_scenario(scenario, list(set_))
     apply_memory_limit(memory_limit)
+    if workers is not None or scheduler is not None:
+        _check_dask_options(workers, scheduler)
+        if sc.is_downlooking:
+            from ..errors import ScenarioError
+            raise ScenarioError("--workers" if workers is not None else "--scheduler", workers or scheduler,
+                                "down-looking data are simulated on this machine (no Dask)")
+        _preflight(sc)
+        from .data import _dask_or_not
+        with _dask_or_not(workers, scheduler) as client, _Bar() as bar:
+            simulate_to_file(sc, out, memory_limit=memory_budget(), client=client,
+                             progress=lambda d, n: bar("pulses simulated", d, n))
+        globals()["out"].print(f"wrote {out} (blocks of pulses on Dask workers)")
+        return
     if not sc.is_downlooking:
         need, what = memory_estimate(sc)
         P, N = signal_shape(sc)
@@ -66,7 +81,7 @@ def simulate(scenario: Path = typer.Argument(..., metavar="SCENARIO.yaml", help=
                 "%s: about %s with the file written at once, more than the %s budget: simulated and "
                 "written in blocks of pulses", what, size_text(need + 8.0 * P * N), size_text(budget))
             with _Bar() as bar:
-                simulate_to_file(sc, out, memory_limit=budget / 2, progress=lambda d, n: bar("pulses simulated", d, n))
+                simulate_to_file(sc, out, memory_limit=budget, progress=lambda d, n: bar("pulses simulated", d, n))
             globals()["out"].print(f"wrote {out} (in blocks of pulses)")
             return
     _preflight(sc)

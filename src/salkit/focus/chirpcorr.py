@@ -11,6 +11,9 @@ Phi(t - D) - Phi(t) = -2 pi (f0 + k t) D + pi k D^2 + [e(t - D) - e(t)]. A refer
   e(t) and removes the RVP), multiply by exp(-j e(t));
 * :func:`correct_resample` resamples each pulse to uniform optical frequency (the auxiliary-
   interferometer method): exact to first order in D, leaving the small D^2 e''/2 term;
+* :func:`remove_reference_noise` removes the laser's phase noise: with a finite linewidth the
+  reference records, pulse by pulse, the noise phi(t - D_r) - phi(t) its delay sees, which is the
+  target channel's for an echo of the same delay (:mod:`salkit.simulate.linewidth`);
 * :func:`correct_paper` is seed 002's method for one target delay D_z: the reference phase's
   Fourier coefficients are mapped to D_z with the phase-shift formula (eq 7) and the target
   channel is multiplied by the conjugate (the spectral convolution of eqs 15-18).
@@ -113,6 +116,80 @@ def estimate_nonlinear_phase(ref: np.ndarray, t: np.ndarray, f0: float, k: float
         er = np.real(sfft.ifft(np.where(keep, R * np.conj(H) / (np.abs(H) ** 2 + eps), 0.0)))[:n]
         e = e + er - np.polyval(np.polyfit(t, er, 1), t)
     return e
+
+
+def reference_phase(ref: np.ndarray, t: np.ndarray, f0: float, k: float, delay: float) -> np.ndarray:
+    """The measured phase of each pulse's reference beat less its linear-chirp model,
+    unwrapped along fast time, rad: e(t - D) - e(t) plus the laser's phase noise phi(t - D) - phi(t)
+    (up to a whole number of cycles, which no correction sees).
+
+    Parameters
+    ----------
+    ref : complex (P, N)
+        Dechirped reference beat of each pulse.
+    t : float64 (N,)
+        Fast time, s.
+    f0 : float
+        Optical frequency at t = 0, Hz.
+    k : float
+        Chirp rate, Hz/s.
+    delay : float
+        Reference delay D, s.
+
+    Returns
+    -------
+    float64 (P, N)
+
+    Raises
+    ------
+    PhaseUnwrapError
+        When a pulse's phase steps exceed pi/2 RMS (too weak or too fast to unwrap).
+    """
+    lin = -TWO_PI * (f0 + k * t) * delay + math.pi * k * delay ** 2
+    z = np.angle(np.asarray(ref) * np.exp(-1j * lin)[None, :])  # the slow part, then unwrapped
+    z = np.unwrap(z, axis=1)
+    steps = np.diff(z, axis=1)
+    rms = np.sqrt(np.mean((steps - np.median(steps, axis=1, keepdims=True)) ** 2, axis=1))
+    if rms.size and float(rms.max()) > math.pi / 2:
+        raise PhaseUnwrapError(f"reference phase steps of pulse {int(np.argmax(rms))} have {float(rms.max()):.3g} rad "
+                               "RMS: too weak to unwrap")
+    return z
+
+
+def remove_reference_noise(signal: np.ndarray, ref: np.ndarray, t: np.ndarray, f0: float, k: float,
+                           delay: float) -> tuple[np.ndarray, np.ndarray]:
+    """Remove the laser's phase noise the reference channel recorded, pulse by pulse.
+
+    Each pulse's reference phase (:func:`reference_phase`) less its mean over the pulses given
+    (the chirp's deterministic part, e(t - D) - e(t), and a pedestal common to all pulses) is the
+    phase noise of that pulse at the reference delay; the target channel is multiplied by its
+    conjugate. An echo whose delay difference equals D loses its noise; one of delay difference
+    tau keeps phi(t - tau) - phi(t - D), of variance 2 pi linewidth |tau - D|. The mean reference
+    beat is returned for the chirp corrections (:func:`estimate_nonlinear_phase`).
+
+    Parameters
+    ----------
+    signal : complex (P, N)
+        Dechirped target channel.
+    ref : complex (P, N)
+        Its reference channel, one beat a pulse.
+    t : float64 (N,)
+        Fast time, s.
+    f0, k : float
+        Optical frequency at t = 0 (Hz), chirp rate (Hz/s).
+    delay : float
+        Reference delay D, s.
+
+    Returns
+    -------
+    (complex64 (P, N), complex128 (N,))
+        The corrected signal, and the reference beat without the noise (the pulses' mean phase).
+    """
+    z = reference_phase(ref, t, f0, k, delay)
+    mean = z.mean(axis=0)
+    out = (np.asarray(signal) * np.exp(-1j * (z - mean[None, :]))).astype(np.complex64)
+    lin = -TWO_PI * (f0 + k * t) * delay + math.pi * k * delay ** 2
+    return out, np.exp(1j * (lin + mean))
 
 
 def correct_deskew(signal: np.ndarray, e: np.ndarray, adc_rate: float, k: float) -> np.ndarray:

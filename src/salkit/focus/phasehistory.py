@@ -60,7 +60,8 @@ class PhaseHistory:
         return self.freq.size * float(self.freq[1] - self.freq[0])
 
 
-def phase_history(raw: xr.Dataset, chirp_correction: str = "none") -> PhaseHistory:
+def phase_history(raw: xr.Dataset, chirp_correction: str = "none",
+                  phase_noise_correction: str = "none") -> PhaseHistory:
     """Range-compress ``raw`` (with an optional nonlinear-chirp correction) and extract arrays.
 
     Parameters
@@ -69,6 +70,8 @@ def phase_history(raw: xr.Dataset, chirp_correction: str = "none") -> PhaseHisto
         salkit raw (dechirped) or phase-history dataset; outside phase histories are normalised
         first (:func:`salkit.io.normalise_phase_history`).
     chirp_correction : {"none", "resample", "deskew"}
+    phase_noise_correction : {"none", "reference"}
+        As :func:`salkit.focus.range_compress`.
 
     Returns
     -------
@@ -79,7 +82,7 @@ def phase_history(raw: xr.Dataset, chirp_correction: str = "none") -> PhaseHisto
     DataFileError
         When the arrays' shapes disagree or there are fewer than 2 pulses or samples.
     """
-    ds = range_compress(raw, chirp_correction)
+    ds = range_compress(raw, chirp_correction, phase_noise_correction)
     if raw.attrs.get("salkit_kind") == "phase_history":
         ds = normalise_phase_history(ds)
     data = np.asarray(ds["signal"].values, dtype=np.complex64)

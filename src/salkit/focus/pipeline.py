@@ -173,15 +173,16 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
     g0 = grid or (processing.grid if processing else None)
     P, N = raw["signal"].shape
     chirp = processing.chirp_correction if processing is not None else "none"
+    noise_fix = processing.phase_noise_correction if processing is not None else "none"
     spread = _spread(client)
     tiling, held = _plan(raw, alg, g0.nx if g0 else 256, g0.ny if g0 else 256, memory_limit, out is None, spread)
     if tiling.pulse_block < P:  # the signal is read and range-compressed a block at a time
-        pulses = DatasetPulses(raw, chirp)
+        pulses = DatasetPulses(raw, chirp, noise_fix)
         ph = pulses.geometry()
     else:
         source = raw.encoding.get("source")
         with lazy_reads("signal", source):
-            ph = phase_history(raw, chirp)
+            ph = phase_history(raw, chirp, noise_fix)
         if not held and not np.isfinite(ph.data).all():  # a lazily opened file is checked as it is read
             raise DataFileError(f"{source + ': ' if source else ''}variable 'signal' has non-finite values")
         pulses = InMemoryPulses(ph)

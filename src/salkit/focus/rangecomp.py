@@ -17,12 +17,13 @@ import xarray as xr
 from ..constants import SPEED_OF_LIGHT
 from ..errors import DataFileError
 from ..errors import ScenarioError
-from .chirpcorr import correct_deskew, correct_resample, estimate_nonlinear_phase
+from .chirpcorr import correct_deskew, correct_resample, estimate_nonlinear_phase, remove_reference_noise
 from .dechirp import analytic, deskew
 
 
 
-def range_compress(raw: xr.Dataset, chirp_correction: str = "none") -> xr.Dataset:
+def range_compress(raw: xr.Dataset, chirp_correction: str = "none",
+                   phase_noise_correction: str = "none") -> xr.Dataset:
     """Turn a raw (dechirped) dataset into a frequency-domain phase history.
 
     Parameters
@@ -32,6 +33,11 @@ def range_compress(raw: xr.Dataset, chirp_correction: str = "none") -> xr.Datase
     chirp_correction : {"none", "resample", "deskew"}
         Nonlinear-chirp correction from the file's ``reference_signal`` (see
         :mod:`salkit.focus.chirpcorr`).
+    phase_noise_correction : {"none", "reference"}
+        ``reference``: remove the laser phase noise the reference channel recorded for each pulse
+        (:func:`salkit.focus.chirpcorr.remove_reference_noise`; the file's ``reference_signal`` then
+        has a beat a pulse). The chirp correction then reads the pulses' mean beat (over the
+        pulses of ``raw``: with pulse blocks, of each block).
 
     Returns
     -------
@@ -51,11 +57,25 @@ def range_compress(raw: xr.Dataset, chirp_correction: str = "none") -> xr.Datase
     if not int(raw.attrs.get("iq", 1)):
         sig = analytic(sig, str(raw.attrs.get("real_sideband", "negative")))
     t = raw["fast_time"].values
+    ref = None
+    if phase_noise_correction not in ("none", "reference"):
+        raise ScenarioError("processing.phase_noise_correction", phase_noise_correction, "must be none or reference")
+    if phase_noise_correction == "reference":
+        if "reference_signal" not in raw or "slow_time" not in raw["reference_signal"].dims:
+            raise ScenarioError("processing.phase_noise_correction", "reference",
+                                "needs a reference channel that recorded each pulse (receiver.reference_channel "
+                                "with waveform.linewidth > 0: reference_signal (slow_time, fast_time))")
+        sig, ref = remove_reference_noise(sig, raw["reference_signal"].values, t, f0, k,
+                                          float(raw.attrs["reference_delay"]))
     if chirp_correction != "none":
         if "reference_signal" not in raw:
             raise ScenarioError("processing.chirp_correction", chirp_correction,
                                 "needs a reference channel in the raw data (receiver.reference_channel)")
-        e = estimate_nonlinear_phase(raw["reference_signal"].values, t, f0, k, float(raw.attrs["reference_delay"]))
+        if ref is None:
+            ref = raw["reference_signal"].values
+            if ref.ndim == 2:  # a beat a pulse: the pulses' mean phase carries the chirp
+                ref = np.exp(1j * np.angle(np.mean(ref, axis=0)))
+        e = estimate_nonlinear_phase(ref, t, f0, k, float(raw.attrs["reference_delay"]))
         if chirp_correction == "resample":
             ph = deskew(correct_resample(sig, e, t, k), fs, k)
         else:

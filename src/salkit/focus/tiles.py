@@ -281,14 +281,15 @@ class DatasetPulses:
     ----------
     raw : xarray.Dataset
     chirp_correction : str
+    phase_noise_correction : str
     """
 
-    def __init__(self, raw, chirp_correction: str = "none"):
-        self.raw, self.chirp = raw, chirp_correction
+    def __init__(self, raw, chirp_correction: str = "none", phase_noise_correction: str = "none"):
+        self.raw, self.chirp, self.noise_fix = raw, chirp_correction, phase_noise_correction
         self.source = raw.encoding.get("source")  # the file, when opened from one: workers reopen it
         P = raw.sizes["slow_time"]
         with lazy_reads("signal", self.source):
-            probe = phase_history(raw.isel(slow_time=[0, P // 2, P - 1]), chirp_correction)  # first, centre, last
+            probe = phase_history(raw.isel(slow_time=[0, P // 2, P - 1]), chirp_correction, phase_noise_correction)  # first, centre, last
         self.track, self.center_position = probe.track, probe.center_position
         self.probe = probe
 
@@ -300,7 +301,7 @@ class DatasetPulses:
     def block(self, a: int, b: int) -> PhaseHistory:
         """Pulses ``a`` to ``b``, read and range-compressed now."""
         with lazy_reads("signal", self.source):
-            ph = phase_history(self.raw.isel(slow_time=slice(a, b)), self.chirp)
+            ph = phase_history(self.raw.isel(slow_time=slice(a, b)), self.chirp, self.noise_fix)
         if not np.isfinite(ph.data).all():
             where = f"{self.source}: " if self.source else ""
             raise DataFileError(f"{where}variable 'signal': non-finite values in pulses {a} to {b - 1}")
@@ -309,11 +310,11 @@ class DatasetPulses:
     def whole(self) -> PhaseHistory:
         """Every pulse at once (on a Dask worker, kept for its next tile: the tiles of FFBP a worker
         forms read the file once; elsewhere nothing is kept beyond the caller's use)."""
-        key = (self.source, self.chirp) if self.source and in_dask_task() else None
+        key = (self.source, self.chirp, self.noise_fix) if self.source and in_dask_task() else None
         if key is not None and _WHOLE.get("key") == key:
             return _WHOLE["ph"]
         with lazy_reads("signal", self.source):
-            ph = phase_history(self.raw, self.chirp)
+            ph = phase_history(self.raw, self.chirp, self.noise_fix)
         if key is not None:
             _WHOLE.clear()
             _WHOLE.update(key=key, ph=ph)
@@ -322,11 +323,11 @@ class DatasetPulses:
     def __getstate__(self):
         if not self.source:
             raise TypeError("DatasetPulses of a dataset not opened from a file cannot go to other processes")
-        return {"source": self.source, "chirp": self.chirp}
+        return {"source": self.source, "chirp": self.chirp, "noise_fix": self.noise_fix}
 
     def __setstate__(self, state):
         from_file = read_phase_data(state["source"], lazy=True)  # a worker opens the file itself
-        self.__init__(from_file, state["chirp"])
+        self.__init__(from_file, state["chirp"], state["noise_fix"])
 
     def geometry(self, block: int = 4096) -> PhaseHistory:
         """The collection without its signal (``data`` of zero samples): every pulse's position and

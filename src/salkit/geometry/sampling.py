@@ -22,7 +22,8 @@ _trimesh = _lazy.load("trimesh", suppress_warning=True)
 
 def scene_probe_points(scenario: Scenario) -> np.ndarray:
     """Points that bound the scene: point targets, the corners/edges of the extended scene and the
-    corners of a cube about each 3-D object that holds it whatever its attitude.
+    corners of a box about each 3-D object that holds it (whatever its attitude; a spinning one's
+    about its bounding sphere).
 
     Parameters
     ----------
@@ -50,6 +51,8 @@ def scene_probe_points(scenario: Scenario) -> np.ndarray:
             except Exception as err:  # noqa: BLE001 - any reader failure is a bad file
                 raise ScenarioError("scene.objects.mesh", obj.mesh, f"cannot be read as a mesh ({err})") from None
         box = (lo + hi) / 2 + c * (hi - lo) / 2
+        if obj.spinning:  # any attitude it turns through: the cube about its bounding sphere
+            box = c * float(np.max(np.linalg.norm(box, axis=1)))
         pts.append(np.asarray(obj.position, np.float64) + obj.scale * box @ rotation(obj.attitude_deg).T)
     return np.concatenate(pts, axis=0)
 

@@ -15,6 +15,7 @@ import numpy as np
 from pydantic import Discriminator, Field, Tag, field_validator, model_validator
 
 from ..choices import (ACCURACY, ATMOSPHERE_MODELS, AUTOFOCUS_METHODS, CHIRP_CORRECTIONS, PGA_KERNELS,
+                       PHASE_NOISE_CORRECTIONS,
                        PLANES, STACK_MODES, WINDOWS)
 from ..constants import SPEED_OF_LIGHT
 from ..registry import FORMERS, MATERIALS, OBJECT_KINDS, PATTERNS, SHAPES, SURFACES
@@ -271,7 +272,11 @@ class SceneObject(_Frozen):
         "m: box [x, y, z]; plate [x, y]; sphere [diameter]; cylinder [diameter, height]; the models their "
         "overall [x, y, z]"))
     position: tuple[float, float, float] = Field(default=(0.0, 0.0, 0.0), description="centre, m (scene frame)")
-    attitude_deg: tuple[float, float, float] = Field(default=(0.0, 0.0, 0.0), description="yaw, pitch, roll, deg")
+    attitude_deg: tuple[float, float, float] = Field(default=(0.0, 0.0, 0.0), description=(
+        "yaw, pitch, roll, deg (at slow time 0, the aperture's centre)"))
+    attitude_rate_deg_s: tuple[float, float, float] = Field(default=(0.0, 0.0, 0.0), description=(
+        "angular velocity about the scene's x, y, z axes through the object's centre, deg/s: a spinning or "
+        "tumbling object (a space object), turned by it at each pulse"))
     scale: float = Field(default=1.0, gt=0, le=1e4)
     material: SurfaceMaterial = Field(default_factory=SurfaceMaterial)  # made when used (its kind is declared)
     parts: dict[str, SurfaceMaterial] = Field(default_factory=dict, description="material by part name")
@@ -289,7 +294,15 @@ class SceneObject(_Frozen):
             raise FieldProblem("mesh", self.mesh, "file does not exist")
         if any(not (0 < v <= 1e4) for v in self.size):
             raise FieldProblem("size", list(self.size), "each must be in (0, 1e4] m")
+        if math.hypot(*self.attitude_rate_deg_s) > 3600.0:
+            raise FieldProblem("attitude_rate_deg_s", list(self.attitude_rate_deg_s),
+                               "the rate must be at most 3600 deg/s")
         return self
+
+    @property
+    def spinning(self) -> bool:
+        """Whether the object turns during the collection."""
+        return any(v != 0.0 for v in self.attitude_rate_deg_s)
 
 
 class Scene(_Frozen):
@@ -427,6 +440,9 @@ class Processing(_Frozen):
     range_upsample: int = Field(default=BP_UPSAMPLE, ge=2, le=64, description="backprojection profile upsampling (16: -64 to -69 dB against the exact matched filter, 32: -75.5 to -78.5 dB)")
     chirp_correction: Literal[CHIRP_CORRECTIONS] = Field(
         default="none", description="nonlinear-chirp correction from the reference channel")
+    phase_noise_correction: Literal[PHASE_NOISE_CORRECTIONS] = Field(
+        default="none", description=("reference: remove the laser phase noise the reference channel recorded for each "
+                                     "pulse (exact for echoes whose delay difference equals the reference delay)"))
 
     @field_validator("algorithm")
     @classmethod

@@ -9,12 +9,14 @@ import numpy as np
 
 from ..constants import SPEED_OF_LIGHT
 from ..errors import ScenarioError
-from ..geometry.collection import Collection, beam_gain_table, pulse_count
+from ..geometry.collection import Collection, beam_gain_table, build_collection, pulse_count
 from ..geometry.sampling import resolution_theory
 from ..params.models import Noise, Scenario
 from .linewidth import NO_PHASE_NOISE
 from .fast import applies, fast_echoes
 from .kernels import simulate_exact, simulate_linear
+from .targets import sample_count
+from .views import look_segments
 
 ProgressFn = Optional[Callable[[int, int], None]]
 
@@ -215,11 +217,51 @@ def signal_shape(scenario: Scenario) -> tuple[int, int]:
     return pulse_count(scenario), int(gate * scenario.receiver.adc_rate) + 1
 
 
+#: Peak bytes a point or extended-scene scatterer takes while simulated: its position and amplitude,
+#: the lattice it is drawn from, the kernels' float64 copies, the fast simulator's coefficients and
+#: points in each thread (measured by peak RSS over the baseline: 137 B a scatterer at 10^6, 167 B at
+#: 4 x 10^6, `salkit simulate`, 2026-11-26).
+BYTES_A_SCATTERER = 176.0
+#: Peak bytes an object's surface sample takes: position, normal, area, speckle and owner, a look's
+#: amplitudes, the seen samples' copies, and a scatterer's share in the kernels (measured: 262 B a
+#: sample at 2 x 10^6, one look, `salkit simulate`, 2026-11-26; docs/targets.md).
+BYTES_A_SAMPLE = 320.0
+#: Bytes a seen sample keeps for each further look (its position and amplitude).
+BYTES_A_LOOK = 40.0
+
+
+def scene_memory(scenario: Scenario) -> tuple[float, int]:
+    """Peak memory of a scenario's scatterers while simulated, bytes, and their count (the objects'
+    samples counted from their meshes, nothing sampled).
+
+    Parameters
+    ----------
+    scenario : Scenario
+
+    Returns
+    -------
+    (float, int)
+    """
+    sc = scenario.scene
+    n_scat = len(sc.points)
+    if sc.extended is not None:
+        n_scat += int((sc.extended.extent[0] / sc.extended.spacing + 1) * (sc.extended.extent[1] / sc.extended.spacing + 1))
+    n_obj, per_obj = 0, 0.0
+    if sc.objects:
+        col = build_collection(scenario)
+        res = resolution_theory(scenario, col)
+        n_obj = sample_count(sc.objects, min(res["azimuth"], res["slant_range"]) / 2.0)
+        looks = len(look_segments(col.positions, col.slow_time, sc.objects))
+        per_obj = BYTES_A_SAMPLE + BYTES_A_LOOK * (looks - 1)
+    return BYTES_A_SCATTERER * n_scat + per_obj * n_obj, n_scat + n_obj
+
+
 def memory_estimate(scenario: Scenario) -> tuple[float, str]:
     """Peak memory of simulating a scenario, bytes, from its sizes (nothing is built).
 
     The complex64 signal twice (noise, the dataset), 2 kB per pulse (geometry and the sampling
-    check's probes), 48 bytes per scatterer.
+    check's probes), the scatterers (:func:`scene_memory`); with laser phase noise and a reference
+    channel, its beat of every pulse (complex64) and its phase noise (float32).
 
     Parameters
     ----------
@@ -231,12 +273,11 @@ def memory_estimate(scenario: Scenario) -> tuple[float, str]:
         Bytes, and the sizes that drive it (for messages).
     """
     P, N = signal_shape(scenario)
-    sc = scenario.scene
-    n_scat = len(sc.points)
-    if sc.extended is not None:
-        n_scat += int((sc.extended.extent[0] / sc.extended.spacing + 1) * (sc.extended.extent[1] / sc.extended.spacing + 1))
+    scene, n_scat = scene_memory(scenario)
     sig = 8.0 * P * N
-    need = 2 * sig + 2048.0 * P + 48.0 * n_scat
+    need = 2 * sig + 2048.0 * P + scene
+    if scenario.waveform.linewidth > 0 and scenario.receiver.reference_channel is not None:
+        need += 1.5 * sig  # a reference beat a pulse (complex64) and its phase noise (float32)
     return need, f"simulating {P} pulses x {N} samples ({sig / 2 ** 30:.3g} GiB of signal), {n_scat} scatterers"
 
 

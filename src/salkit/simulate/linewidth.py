@@ -9,6 +9,13 @@ matched to the dechirp reference range, ``receiver.lo_delay`` unset), the whole 
 undelayed LO (``lo_delay: 0``). Its expected effect on a coherent image is a loss of peak power
 exp(-sigma^2) (:func:`peak_power_loss`), the power going into a pedestal.
 
+A reference channel (seed 002's delay line, ``receiver.reference_channel``, its reference LO tapped
+where the target channel's LO is) records phi(t_LO - D) - phi(t_LO) for each pulse, D its delay
+(:meth:`PhaseNoise.reference_phase`); range compression with ``processing.phase_noise_correction:
+reference`` removes it from the target channel (:func:`salkit.focus.chirpcorr.remove_reference_noise`),
+which cancels the noise of an echo whose delay difference tau - tau_LO equals D and leaves
+phi(t_LO - (tau - tau_LO)) - phi(t_LO - D), of variance 2 pi linewidth |tau - tau_LO - D|, elsewhere.
+
 The simulator evaluates the noise exactly at each echo's and the LO's time: per pulse, one Wiener
 path sampled at the ADC spacing over the window the echoes read and the window the LO reads (one
 path over both where they are close; two windows and the Gaussian increment across the gap
@@ -168,6 +175,45 @@ class PhaseNoise:
     lo: np.ndarray
     shift: np.ndarray
 
+    def lo_phase(self, i: int, times: np.ndarray) -> np.ndarray:
+        """The path of pulse ``i`` (of this run) at ``times`` (s) within its LO window, rad (linear
+        interpolation, as the kernel reads it).
+
+        Parameters
+        ----------
+        i : int
+        times : float64 (M,)
+
+        Returns
+        -------
+        float64 (M,)
+        """
+        grid = self.lo_t0[i] + self.dt * np.arange(self.lo.shape[1])
+        return np.interp(times, grid, self.lo[i])
+
+    def reference_phase(self, fast_time: np.ndarray, reference_delay: float) -> np.ndarray:
+        """The phase noise a reference channel of delay D records for each pulse of this run: the
+        laser through the reference path against it through a reference LO of the target LO's
+        delay, phi(t_LO - D) - phi(t_LO), rad (P, N).
+
+        Parameters
+        ----------
+        fast_time : float64 (N,)
+            s.
+        reference_delay : float
+            D, s (the window was drawn for it: :func:`phase_noise`'s ``reference_delay``).
+
+        Returns
+        -------
+        float64 (P, N)
+        """
+        t = np.asarray(fast_time, np.float64)
+        out = np.empty((self.lo.shape[0], t.size))
+        for i in range(out.shape[0]):
+            at = t + self.shift[i]
+            out[i] = self.lo_phase(i, at - reference_delay) - self.lo_phase(i, at)
+        return out
+
     def rows(self, a: int, b: int) -> tuple:
         """The kernel's arguments for pulses ``a`` to ``b`` of this run.
 
@@ -187,8 +233,45 @@ class PhaseNoise:
 NO_PHASE_NOISE = (1.0, 0.0, np.zeros((0, 1)), np.zeros(0), np.zeros((0, 1)), np.zeros(0))
 
 
+def substeps(dt: float, delay_differences) -> int:
+    """Table points a fast-time sample for the phase noise of the given delay differences: a Wiener
+    path tabulated at spacing h and read by linear interpolation gives an increment over tau < h
+    the variance 2 pi linewidth tau^2 / h instead of tau, so the table resolves the largest delay
+    difference in :data:`POINTS_A_DELAY` steps (at most :data:`MAX_SUBSTEPS` a sample).
+
+    Parameters
+    ----------
+    dt : float
+        Fast-time sample spacing, s.
+    delay_differences : sequence of float
+        The delay differences tau - tau_LO the noise matters at (echoes, reference channel), s.
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> substeps(50e-9, [33e-6])
+    1
+    >>> substeps(50e-9, [10e-9])
+    64
+    """
+    big = max((abs(float(d)) for d in delay_differences), default=0.0)
+    if big <= 0.0:
+        return 1
+    return int(min(MAX_SUBSTEPS, max(1, math.ceil(POINTS_A_DELAY * float(dt) / big))))
+
+
+#: Table steps over the largest delay difference (:func:`substeps`): an increment's variance low by
+#: about h / 3 tau, 2 %.
+POINTS_A_DELAY = 16
+#: Most table points a fast-time sample.
+MAX_SUBSTEPS = 64
+
+
 def phase_noise(linewidth: float, fast_time: np.ndarray, delays: tuple[float, float], shift: np.ndarray,
-                seed: int, pulses: np.ndarray) -> PhaseNoise:
+                seed: int, pulses: np.ndarray, reference_delay: float = 0.0, steps: int = 1) -> PhaseNoise:
     """Wiener phase-noise paths of the given pulses, tabulated where the echoes and the LO read them.
 
     Parameters
@@ -205,17 +288,23 @@ def phase_noise(linewidth: float, fast_time: np.ndarray, delays: tuple[float, fl
         The scenario's seed.
     pulses : int (P,)
         The pulses' indices in the collection (each draws from its own stream).
+    reference_delay : float
+        A reference channel's delay D, s: each LO window also covers D before it
+        (:meth:`PhaseNoise.reference_phase`); 0 without one (the same draws).
+    steps : int
+        Table points a fast-time sample (:func:`substeps`).
 
     Returns
     -------
     PhaseNoise
     """
     t = np.asarray(fast_time, np.float64)
-    dt = float(t[1] - t[0]) if t.size > 1 else 1e-9
+    dt = (float(t[1] - t[0]) if t.size > 1 else 1e-9) / int(steps)
     d0, d1 = float(delays[0]), float(delays[1])
     a0, a1 = t[0] - d1 - 2 * dt, t[-1] - d0 + 2 * dt  # the echoes' window
     shift = np.asarray(shift, np.float64)
-    b0, b1 = t[0] + shift - 2 * dt, t[-1] + shift + 2 * dt  # each pulse's LO window
+    D = float(reference_delay)
+    b0, b1 = t[0] + shift - max(D, 0.0) - 2 * dt, t[-1] + shift - min(D, 0.0) + 2 * dt  # each pulse's LO window
     step = math.sqrt(2.0 * math.pi * float(linewidth) * dt)
     length = a1 - a0
     lo0, hi = min(a0, float(b0.min())), max(a1, float(b1.max()))

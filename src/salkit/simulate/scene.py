@@ -7,7 +7,6 @@ import numpy as np
 from ..params.models import ExtendedScene, Scenario
 from ..registry import MATERIALS, OBJECT_KINDS, PATTERNS
 from . import objects  # noqa: F401  (the built-in kinds, patterns and materials declare themselves)
-from .targets import SAMPLES_PER_CELL, object_scatterers
 
 
 def pattern_mask(pattern: str, u: np.ndarray, v: np.ndarray) -> np.ndarray:
@@ -87,9 +86,10 @@ def extended_scatterers(ext: ExtendedScene, cell_area: float, rng: np.random.Gen
     return MATERIALS.get(material_of(ext)).scatter(pos, refl[keep], ext.spacing, cell_area, rng, smooth_phase)
 
 
-def build_scatterers(scenario: Scenario, cell_area: float, rng: np.random.Generator, smooth_phase=None,
-                     sensor=None, spacing: float | None = None):
-    """All scatterers of a scenario: positions (N, 3) m and complex reflectivities (N,).
+def build_scatterers(scenario: Scenario, cell_area: float, rng: np.random.Generator, smooth_phase=None):
+    """The scatterers of a scenario's point targets and extended scene: positions (N, 3) m and
+    complex reflectivities (N,). (Its 3-D objects are seen look by look:
+    :class:`salkit.simulate.views.ObjectScene`.)
 
     Parameters
     ----------
@@ -98,11 +98,6 @@ def build_scatterers(scenario: Scenario, cell_area: float, rng: np.random.Genera
         m^2.
     rng : numpy.random.Generator
     smooth_phase : callable, optional
-    sensor : float64 (3,), optional
-        The aperture centre, m: the look direction of the 3-D objects (``scene.objects``).
-    spacing : float, optional
-        Sample spacing on the objects' surfaces, m (default: from ``cell_area``,
-        :data:`salkit.simulate.targets.SAMPLES_PER_CELL` a cell).
 
     Returns
     -------
@@ -113,14 +108,6 @@ def build_scatterers(scenario: Scenario, cell_area: float, rng: np.random.Genera
     amp = [np.array([t.amplitude * np.exp(1j * t.phase) for t in pts], dtype=np.complex128)]
     if scenario.scene.extended is not None:
         p, a = extended_scatterers(scenario.scene.extended, cell_area, rng, smooth_phase)
-        pos.append(p)
-        amp.append(a)
-    if scenario.scene.objects:
-        if sensor is None:
-            raise ValueError("3-D objects need the sensor's position (the look direction)")
-        step = spacing or float(np.sqrt(cell_area / SAMPLES_PER_CELL))
-        p, a = object_scatterers(scenario.scene.objects, sensor, cell_area, step, scenario.waveform.wavelength, rng,
-                                 smooth_phase)
         pos.append(p)
         amp.append(a)
     return np.concatenate(pos), np.concatenate(amp)

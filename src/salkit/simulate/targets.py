@@ -1,5 +1,6 @@
 """3-D objects of a scene (``scene.objects``): built-in shapes or mesh files (trimesh), placed,
-turned and scaled, their surfaces turned into scatterers for one look direction.
+turned and scaled, their surfaces sampled into scatterers (:mod:`salkit.simulate.views` sees them
+from each look).
 
 **Shapes** (:data:`salkit.registry.SHAPES`, declared here): ``box``, ``plate``, ``sphere``,
 ``cylinder`` and two procedural models, ``satellite`` (a bus, two solar panels on booms, a dish) and
@@ -25,9 +26,9 @@ T has image power T^2), circular Gaussian for rough surfaces, phase-aligned for 
 ones (amplitude sqrt(sigma0) dA / cell: a cell of them images with power sigma0). Samples facing away (cos theta <= 0) and samples another surface hides from the sensor (a ray
 cast from each towards the sensor with Embree through embreex, trimesh's own ray casting as the
 fallback) are removed: in a monostatic system what is hidden is what is shadowed, and layover
-falls where the 3-D positions put it. The look direction is the aperture centre's; an aperture
-whose look turns by more than :data:`LOOK_TURN_DEG` is refused (sub-apertures of that size have
-to be simulated apart).
+falls where the 3-D positions put it. One look holds while the look direction turns by at most
+:data:`salkit.simulate.views.LOOK_TURN_DEG`; apertures that turn further, and spinning objects,
+are seen look by look (:mod:`salkit.simulate.views`).
 """
 from __future__ import annotations
 
@@ -46,8 +47,6 @@ _trimesh = _lazy.load("trimesh", suppress_warning=True)
 
 #: Samples a resolution cell on every face (its spacing half the finer resolution).
 SAMPLES_PER_CELL = 4
-#: Largest turn of the look direction over the aperture for which one occlusion holds, deg.
-LOOK_TURN_DEG = 2.0
 
 
 @dataclass(frozen=True)
@@ -325,146 +324,23 @@ def _stratified(mesh, spacing: float, rng):
     return idx, pos, np.concatenate(dA)
 
 
-def _looks(pos: np.ndarray, sensor: np.ndarray) -> np.ndarray:
-    """Unit vectors from each point towards the sensor."""
-    look = sensor - pos
-    return look / np.linalg.norm(look, axis=1)[:, None]
-
-
-def _hidden(scene, pos: np.ndarray, sensor: np.ndarray) -> np.ndarray:
-    """Whether another surface of ``scene`` lies between each point and the sensor (a ray cast from
-    just off the point; monostatic: hidden is shadowed)."""
-    look = _looks(pos, sensor)
-    eps = 1e-6 * float(np.linalg.norm(scene.extents)) + 1e-5
-    return scene.ray.intersects_any(pos + eps * look, look)
-
-
-def object_scatterers(objects, sensor: np.ndarray, cell_area: float, spacing: float, wavelength: float,
-                      rng: np.random.Generator, smooth_phase=None):
-    """Scatterers of the scene's objects seen from ``sensor``: positions (N, 3) and complex
-    reflectivities (N,), hidden and back-facing samples removed.
+def sample_count(objects, spacing: float) -> int:
+    """How many surface samples the objects make at ``spacing`` (m), facing away and hidden ones
+    included: the size of their scatterer arrays, known before any sampling.
 
     Parameters
     ----------
     objects : sequence of SceneObject
-    sensor : float64 (3,)
-        Where the sensor is (the aperture centre), m, scene frame.
-    cell_area : float
-        Resolution cell area, m^2 (the normalisation).
     spacing : float
-        Sample spacing on the surfaces, m (:data:`SAMPLES_PER_CELL` a cell).
-    wavelength : float
         m.
-    rng : numpy.random.Generator
-    smooth_phase : callable, optional
-        ``smooth_phase(pos) -> rad`` for smooth surfaces that are not glints.
 
     Returns
     -------
-    (float64 (N, 3), complex128 (N,))
+    int
     """
-    sensor = np.asarray(sensor, np.float64)
-    meshes, items = [], []
+    n = 0
     for obj in objects:
-        for part, mesh in object_parts(obj).items():
-            meshes.append(mesh)
-            items.append((mesh, _material(obj, part)))
-    if not items:
-        return np.zeros((0, 3)), np.zeros(0, np.complex128)
-    scene = _trimesh.util.concatenate(meshes)
-    pos_all, amp_all = [], []
-    for mesh, mat in items:
-        surf = SURFACES.get(mat.kind)
-        if surf.glint and not mat.speckle:  # a coherent glint a planar face
-            for tris in _faces(mesh):
-                c = mesh.triangles_center[tris[0]]
-                look = (sensor - c) / np.linalg.norm(sensor - c)
-                if float(mesh.face_normals[tris[0]] @ look) <= 0:
-                    continue
-                centre, sigma, sign = _glint(mesh, tris, look, wavelength)
-                if mat.kind == "retroreflector":
-                    cos = float(mesh.face_normals[tris[0]] @ look)
-                    area = float(mesh.area_faces[tris].sum())
-                    sigma = float(_retro(np.array([cos]), mat)[0] > 0) * 4.0 * math.pi * (area * cos) ** 2 / wavelength ** 2
-                    sign = 1.0
-                else:
-                    sigma *= mat.reflectance
-                pos_all.append(centre[None, :])
-                amp_all.append(np.array([sign * math.sqrt(sigma / cell_area)], np.complex128))
-            continue
-        idx, p, dA = _stratified(mesh, spacing, rng if mat.speckle else None)
-        look = _looks(p, sensor)
-        cos = np.einsum("ij,ij->i", mesh.face_normals[idx], look)
-        power = surf.sigma0(cos, mat) * dA / cell_area
-        keep = (cos > 0) & (power > 0)
-        p, power = p[keep], power[keep]
-        if mat.speckle:
-            amp = np.sqrt(power) * (rng.standard_normal(p.shape[0]) + 1j * rng.standard_normal(p.shape[0])) / math.sqrt(2.0)
-        else:  # amplitudes that add in phase: a cell of sigma0 images with power sigma0
-            amp = (np.sqrt(power / dA[keep] * cell_area) * dA[keep] / cell_area).astype(np.complex128)
-            if smooth_phase is not None:
-                amp = amp * np.exp(1j * smooth_phase(p))
-        pos_all.append(p)
-        amp_all.append(amp)
-    pos = np.concatenate(pos_all) if pos_all else np.zeros((0, 3))
-    amp = np.concatenate(amp_all) if amp_all else np.zeros(0, np.complex128)
-    if pos.shape[0]:
-        hidden = _hidden(scene, pos, sensor)
-        pos, amp = pos[~hidden], amp[~hidden]
-    return pos, amp
-
-
-def look_turn_deg(positions: np.ndarray, centre: np.ndarray) -> float:
-    """How far the look direction to ``centre`` turns over the aperture, deg.
-
-    Parameters
-    ----------
-    positions : float64 (P, 3)
-        Antenna positions, m.
-    centre : float64 (3,)
-        The scene point looked at, m.
-
-    Returns
-    -------
-    float
-    """
-    u = positions - centre
-    u /= np.linalg.norm(u, axis=1)[:, None]
-    return float(np.degrees(np.arccos(np.clip(u[0] @ u[-1], -1.0, 1.0))))
-
-
-def model_view(objects, sensor: np.ndarray, spacing: float) -> dict:
-    """The objects as the sensor sees them, for a figure: every surface sample projected on the
-    plane across the line of sight (horizontal and vertical axes, m), its Lambertian brightness
-    cos theta, and whether it faces away, is hidden (shadowed: monostatic) or is seen.
-
-    Parameters
-    ----------
-    objects : sequence of SceneObject
-    sensor : float64 (3,)
-        The aperture centre, m.
-    spacing : float
-        Sample spacing, m.
-
-    Returns
-    -------
-    dict
-        ``h``, ``v`` (m), the scene-frame ``x``, ``y``, ``z`` (m), ``brightness``, ``state`` (0
-        seen, 1 hidden, 2 facing away), ``look`` (the unit line of sight, scene to sensor).
-    """
-    sensor = np.asarray(sensor, np.float64)
-    meshes = [m for obj in objects for m in object_parts(obj).values()]
-    scene = _trimesh.util.concatenate(meshes)
-    idx, p, _ = _stratified(scene, spacing, None)
-    look = _looks(p, sensor)
-    cos = np.einsum("ij,ij->i", scene.face_normals[idx], look)
-    state = np.where(cos > 0, 0, 2)
-    front = np.nonzero(cos > 0)[0]
-    hidden = _hidden(scene, p[front], sensor)
-    state[front[hidden]] = 1
-    lc = sensor / np.linalg.norm(sensor)
-    h = np.cross([0.0, 0.0, 1.0], lc)
-    h /= np.linalg.norm(h)
-    v = np.cross(lc, h)
-    return {"h": p @ h, "v": p @ v, "x": p[:, 0], "y": p[:, 1], "z": p[:, 2], "brightness": np.clip(cos, 0, 1),
-            "state": state, "look": lc}
+        for mesh in object_parts(obj).values():
+            m = np.maximum(1, np.ceil(np.sqrt(2.0 * mesh.area_faces) / spacing))
+            n += int(np.sum(m * m))
+    return n

@@ -163,7 +163,7 @@ def subimage(base: Scenario, squint_deg: float, noise_seed: int, noise: bool = T
         raw["signal"].values[...] = sig
     # the former alone: a sub-image needs no dataset, no truth positions, no collection record
     p = sc.processing
-    res, _, _, _ = form_image(phase_history(raw, p.chirp_correction), p, p.grid)
+    res, _, _, _ = form_image(phase_history(raw, p.chirp_correction, p.phase_noise_correction), p, p.grid)
     return res.image
 
 

@@ -20,7 +20,7 @@ from ..metrics import brightest_window, measure, snr_against_truth
 from ..params.models import Processing, Scenario
 from ..params.scenario import dump_scenario, stored_scenario
 from ..constants import SPEED_OF_LIGHT
-from ..simulate.targets import model_view
+from ..simulate.views import model_view
 from ..simulate.linewidth import expected_peak_power_loss, phase_noise_variance
 from ..simulate import simulate
 from .result import Progress, RunResult, flat_numbers, stage
@@ -303,7 +303,8 @@ def focus_and_autofocus(raw: xr.Dataset, scenario: Scenario | None, data: dict, 
     if method == "pulse":  # the phase history is corrected on the pixels of the first image, then refocused
         form = functools.partial(focus, processing=processing, scenario=scenario, **options)
         image, data["image_focus.nc"], af_metrics = pulse_focus(
-            raw, form, proc.chirp_correction if proc is not None else "none", progress=stage(progress, unit))
+            raw, form, proc.chirp_correction if proc is not None else "none", progress=stage(progress, unit),
+            phase_noise_correction=proc.phase_noise_correction if proc is not None else "none")
     else:
         image = focus(raw, processing, scenario=scenario, progress=stage(progress, unit), **options)
     if method not in ("none", "pulse"):

@@ -28,7 +28,7 @@ from ..params.models import Scenario
 from ..params.scenario import dump_scenario, parse_scenario
 from ..resources import check_memory
 from ..simulate import signal_scale, simulate
-from ..simulate.targets import model_view
+from ..simulate.views import model_view
 from ..simulate.scene import pattern_mask
 from ..stack import (coherent_resolution, coherent_stack, geo_base, nearest_squints, point_target, run_stack,
                      stack_memory_estimate, subimage, uncorrect)
