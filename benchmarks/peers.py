@@ -1,0 +1,105 @@
+"""peers: salkit against FastSAR (PyPI ``fastsar``, its C++/OpenMP CPU kernels) on the same phase
+histories, both judged against salkit's exact former (the float64 matched filter).
+
+Data: the wide-angle arc of ``ffbp_scaling`` (4 degrees of a 7 km radius at 7.3 km height, climbing
+0.5 m, ground plane, 0.2 m pixels), unit scatterers with random phases uniformly over the grid,
+complex64 phase histories given to both libraries unchanged. Both grids are (i - n/2) x spacing
+along the plane's azimuth and range axes (the same pixels); the truth is evaluated on 8 evenly
+spread rows. FastSAR's images are sums (salkit's are means): divided by pulses x frequencies.
+No window in either. Each setting is timed warm, runs interleaved between the libraries, best of
+``repeat``; threads: numba's (salkit) and OMP_NUM_THREADS (FastSAR), both set to the cores.
+
+FastSAR is optional (``pip install 'salkit[peers]'``, never needed by ``make test``): without it
+this benchmark prints one line saying so and measures nothing.
+
+``make bench NAME=peers`` (or ``python benchmarks/peers.py [SIZE ...] [--ffbp]``, default 1024).
+"""
+from __future__ import annotations
+
+import os
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+#: (label, former, keyword arguments) of salkit
+SALKIT = [("ffbp", "ffbp", {}), ("ffbp high", "ffbp", {"accuracy": "high"}), ("bp", "bp", {}),
+          ("bp high (32x)", "bp", {"upsample": 32}), ("bp_cubic", "bp_cubic", {}),
+          ("bp_cubic high (32x)", "bp_cubic", {"upsample": 32})]
+#: (label, form_image keyword arguments) of FastSAR
+FASTSAR = ([(f"ffbp target {t} dB", {"algorithm": "ffbp", "target_db": float(t)}) for t in (-40, -50, -60)]
+           + [(f"bp {i} {u}x", {"algorithm": "bp", "interp": i, "upsample": u})
+              for i in ("linear", "cubic") for u in (4, 8, 16, 32)])
+
+
+def _fastsar():
+    try:
+        import fastsar
+    except ImportError:
+        return None
+    return fastsar
+
+
+def bench_peers(sizes=(1024,), repeat=3, only: str | None = None):
+    """Error against the truth, 99th-percentile bright-pixel phase error and best time of every
+    setting of both libraries (``only="ffbp"``: the factorised formers alone, for large grids
+    where per-pixel backprojection takes minutes a run)."""
+    fastsar = _fastsar()
+    if fastsar is None:
+        print("peers: FastSAR is not installed (pip install 'salkit[peers]'): skipped, nothing measured")
+        return {}
+    from numba import get_num_threads
+    from ffbp_scaling import measure, problem
+    from salkit.focus.formers import get_former
+    from salkit.signals.windows import Window
+    out = {"peers_threads_salkit": get_num_threads(), "peers_threads_fastsar": int(os.environ.get("OMP_NUM_THREADS", 0)),
+           "peers_fastsar_version": getattr(fastsar, "__version__", "?")}
+    for n in sizes:
+        ph, ig, sel, truth, t = problem(n)
+        P, K = ph.data.shape
+        pl = ig.plane
+        dx, dy = float(ig.azimuth[1] - ig.azimuth[0]), float(ig.range[1] - ig.range[0])
+        assert np.allclose(ig.azimuth, (np.arange(n) - n / 2) * dx) and np.allclose(ig.range, (np.arange(n) - n / 2) * dy)
+        runs = {}
+        for label, alg, kw in SALKIT:
+            if only and not label.startswith(only):
+                continue
+            former = get_former(alg)
+            runs[("salkit", label)] = (lambda former=former, kw=kw: former(ph, ig, Window("none"), **kw).image)
+        fmin, df = float(ph.freq[0]), float(ph.freq[1] - ph.freq[0])
+        for label, kw in FASTSAR:
+            if only and not label.startswith(only):
+                continue
+            runs[("FastSAR", label)] = (lambda kw=kw: np.asarray(fastsar.form_image(
+                ph.data, ph.positions, fmin, df, n, n, dx, dy, pl.azimuth, pl.range, backend="cpu", window=False,
+                ref=ph.reference_range, **kw)) / (P * K))
+        best = {k: np.inf for k in runs}
+        result = {}
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            for k, run in runs.items():  # warm: compiled, caches filled
+                result[k] = run()[sel]
+            for _ in range(repeat):  # interleaved
+                for k, run in runs.items():
+                    t0 = time.perf_counter()
+                    run()
+                    best[k] = min(best[k], time.perf_counter() - t0)
+        for (lib, label), img in result.items():
+            m = measure(img, truth)
+            key = f"peers_{n}_{lib}_{label}".replace(" ", "_")
+            out.update({f"{key}_error_db": m["error_db"], f"{key}_phase_p99_deg": m["phase_p99_deg"],
+                        f"{key}_s": best[(lib, label)], f"{key}_pixel_pulses_per_s": n * n * P / best[(lib, label)]})
+            out[f"peers_{n}_bright_pixels"] = m["bright"]
+            print(f"{n}^2 x {P} pulses x {K} | {lib:7s} | {label:22s} | {m['error_db']:7.1f} dB | "
+                  f"{m['phase_p99_deg']:6.3f} deg | {best[(lib, label)]:7.3f} s | "
+                  f"{n * n * P / best[(lib, label)]:.3g} px-pulses/s", flush=True)
+    return out
+
+
+if __name__ == "__main__":
+    args = [a for a in sys.argv[1:] if a != "--ffbp"]
+    bench_peers(tuple(int(a) for a in args) or (1024,), only="ffbp" if "--ffbp" in sys.argv else None)
