@@ -32,13 +32,15 @@ kilometres each rounded to 6e-11 m. Each polar grid keeps :data:`MARGIN_ANGLE` a
 
 Accuracy knobs: ``oversample_angle`` and ``oversample_range`` (samples per Nyquist interval of
 the polar grids), ``range_taps`` and ``leaf`` (pulses backprojected directly into each
-first-level sub-image). Defaults (1.75, 2.0, 8, 16): -56.5 to -61 dB image error against the exact
-matched filter on the test geometries (:mod:`salkit.simulate.testbeds`); :data:`ACCURATE`
-(2.5, 2.5): -64 to -73 dB. docs/performance.md gives the accuracy-speed curve.
+first-level sub-image). Defaults (1.75, 2.0, 8, 16): -56.1 to -61 dB image error against the exact
+matched filter on the test geometries (:mod:`salkit.simulate.testbeds`), not growing with the
+collection (1024^2 to 8192^2 pixels and pulses); :data:`ACCURATE` (3.0, 2.5): -66.8 to -74 dB.
+docs/performance.md gives the accuracy-speed curve.
 """
 from __future__ import annotations
 
 import math
+from decimal import Decimal, localcontext
 
 import numpy as np
 
@@ -61,9 +63,10 @@ OVERSAMPLE_RANGE = 2.0
 SERIES = True
 #: Taps of the merges' range interpolation.
 RANGE_TAPS = 8
-#: The accuracy setting (``processing.accuracy = "high"``): -64 to -73 dB against the exact
-#: matched filter, about 1.3x the default's time.
-ACCURATE = {"oversample_angle": 2.5, "oversample_range": 2.5}
+#: The accuracy setting (``processing.accuracy = "high"``): -66.8 to -74.0 dB against the exact
+#: matched filter on the accuracy benchmark's geometries (-69 to -71 dB at 1024^2 to 8192^2 on the
+#: wide-angle arc), about 1.5x the default's time.
+ACCURATE = {"oversample_angle": 3.0, "oversample_range": 2.5}
 #: Taps of the leaves' range interpolation of the pulses' profiles.
 LEAF_TAPS = 8
 #: Samples kept outside the image's extent on each side of a polar grid, in angle and in range:
@@ -75,6 +78,32 @@ MARGIN_RANGE = 6
 
 from .ffbp_leaves import _chunks, _leaf_kernel, interpolation_table
 from .ffbp_merges import ANGLE_TAPS, _final_kernel, _final_rows, _merge_kernel
+
+
+def rho_residual(o: np.ndarray, c: np.ndarray, rho: float) -> float:
+    """|o - c| - rho exactly (to float64 of the difference), m: what rounding |o - c| to the
+    float64 ``rho`` left out, from the float64 coordinates in 50-digit decimal arithmetic.
+
+    Parameters
+    ----------
+    o, c : float64 (3,)
+        m.
+    rho : float
+        A float64 approximation of |o - c|, m.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> rho_residual(np.zeros(3), np.array([3.0, 4.0, 0.0]), 5.0)
+    0.0
+    """
+    with localcontext() as ctx:
+        ctx.prec = 50
+        s = sum((Decimal(float(a)) - Decimal(float(b))) ** 2 for a, b in zip(o, c))
+        return float(s.sqrt() - Decimal(float(rho)))
 
 
 def _rows_in_order(o: np.ndarray, er: np.ndarray, centres: np.ndarray, rg: np.ndarray) -> bool:
@@ -256,11 +285,12 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
             progress(done, n_levels)
     img = np.zeros((grid.azimuth.size, grid.range.size), np.complex64)
     az, rg = np.asarray(grid.azimuth, np.float64), np.asarray(grid.range, np.float64)
+    res = np.array([rho_residual(o, c, r) for c, r in zip(centres, rho)])
     if _rows_in_order(o, er, centres, rg):
-        _final_rows(G.view(np.float32), u0, du, nu, r0, nr, centres, rho, dr, o, ea, er, az, rg, cyc_per_m, tu, tr,
-                    img, _chunks())
+        _final_rows(G.view(np.float32), u0, du, nu, r0, nr, centres, rho, res, dr, o, ea, er, az, rg, cyc_per_m, tu,
+                    tr, img, _chunks())
     else:
-        _final_kernel(G, u0, du, nu, r0, nr, centres, rho, dr, o, ea, er, az, rg, cyc_per_m, tu, tr, img)
+        _final_kernel(G, u0, du, nu, r0, nr, centres, rho, res, dr, o, ea, er, az, rg, cyc_per_m, tu, tr, img)
     done += 1
     if progress:
         progress(done, done)
@@ -328,7 +358,8 @@ TILE_OVERLAP = 16
     blocks=ffbp_blocks, memory=ffbp_memory,
     accuracy={"standard": Accuracy("polar grids oversampled 1.75 (angle), 2.0 (range)", -55.0,
                                    "-56.5 to -61 dB measured, bright-pixel phase p99 < 1 deg"),
-              "high": Accuracy("oversampled 2.5 and 2.5, about 1.3x the time", -60.0, "-64 to -73 dB measured")})
+              "high": Accuracy("oversampled 3.0 (angle), 2.5 (range), about 1.5x the time", -65.0,
+                               "-66.8 to -74 dB measured")})
 def form_ffbp(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = BP_UPSAMPLE,
               accuracy: str = "standard", progress=None) -> ImageResult:
     """Fast factorised backprojection (the ``ffbp`` former), normalised as ``bp``.

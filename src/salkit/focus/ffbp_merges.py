@@ -196,9 +196,10 @@ def _merge_kernel(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, dr_child, factor, o, 
 
 
 @njit(parallel=True, nogil=True, cache=True, fastmath=True, error_model="numpy")
-def _final_kernel(G, cu0, cdu, cnu, cr0, cnr, ccen, crho, dr_child, o, ea, er, az, rg, cyc_per_m, tu, tr, out):
+def _final_kernel(G, cu0, cdu, cnu, cr0, cnr, ccen, crho, cres, dr_child, o, ea, er, az, rg, cyc_per_m, tu, tr, out):
     """Every remaining sub-image interpolated onto the output grid (table weights), its phase
-    k (|x - c| - rho_c) restored (from small differences, as the merges)."""
+    k (|x - c| - rho_c) restored from small quantities: (|x - c| - |o - c|) from differences and
+    ``cres`` = |o - c| - rho_c, rho_c's rounding, computed exactly by the caller."""
     nx, ny = out.shape
     T = tr.shape[0] - 1
     na = tu.shape[1]
@@ -236,35 +237,54 @@ def _final_kernel(G, cu0, cdu, cnu, cr0, cnr, ccen, crho, dr_child, o, ea, er, a
                         ri += wr[b] * z.imag
                     vr += wu[a] * rr
                     vi += wu[a] * ri
-                g0 = x0 - o[0]
-                g1 = x1 - o[1]
-                g2 = x2 - o[2]
+                g0 = az[i] * ea[0] + rg[j] * er[0]  # x - o
+                g1 = az[i] * ea[1] + rg[j] * er[1]
+                g2 = az[i] * ea[2] + rg[j] * er[2]
                 a0 = o[0] - ccen[c, 0]
                 a1 = o[1] - ccen[c, 1]
                 a2 = o[2] - ccen[c, 2]
-                ra = math.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
                 num = g0 * (g0 + 2.0 * a0) + g1 * (g1 + 2.0 * a1) + g2 * (g2 + 2.0 * a2)
-                vr, vi = _rotate(vr, vi, (num / (rc + ra) + (ra - crho[c])) * cyc_per_m)
+                vr, vi = _rotate(vr, vi, (num / (rc + crho[c]) + cres[c]) * cyc_per_m)
                 acc_r += vr
                 acc_i += vi
             out[i, j] = complex(acc_r, acc_i)
 
 
 @njit(parallel=True, nogil=True, cache=True, fastmath=True, error_model="numpy")
-def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, dr_child, o, ea, er, az, rg, cyc_per_m, tu, tr, out, chunks):
+def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, cres, dr_child, o, ea, er, az, rg, cyc_per_m, tu, tr, out,
+                chunks):
     """Every remaining sub-image interpolated onto the output grid row by row, separably (as a
     merge: a row along the range axis crosses each child's range bins in order when every child
-    centre lies on the near side of the image, which the caller checks), its phase k |x - c|
-    restored (the line's baseband about the origin o with rho 0, undone by ``extra`` = |x - o|)."""
+    centre lies on the near side of the image, which the caller checks), its phase
+    k (|x - c| - rho_c) restored child by child from small quantities: the line centred on the
+    child (no baseband change) and ``extra`` = (x - o).((x - o) + 2 (o - c)) / (|x - c| + rho_c)
+    + ``cres``, |o - c| - rho_c computed exactly by the caller. (|x - c| and rho_c, hundreds of
+    kilometres each, differenced directly, lose a float64 rounding of |x - c| at every pixel:
+    4.9e-4 rad rms at 560 km and 1.55 um, a -64 dB floor.)"""
     nx, ny = out.shape
     n_chunks = max(1, min(nx, chunks))
     for ch in prange(n_chunks):
-        X0, X1, X2, d, E0, E1, E2, fr_b, v_b, sn_b, cs_b, acc2, t2, h2, _z = _line_scratch(ny, Gf.shape[2])
+        X0, X1, X2, d, E0, E1, E2, fr_b, v_b, sn_b, cs_b, acc2, t2, h2, ex = _line_scratch(ny, Gf.shape[2])
+        row = np.empty(ny, np.complex64)
         for i in range(ch * nx // n_chunks, (ch + 1) * nx // n_chunks):
             for k in range(ny):
                 X0[k] = o[0] + az[i] * ea[0] + rg[k] * er[0]
                 X1[k] = o[1] + az[i] * ea[1] + rg[k] * er[1]
                 X2[k] = o[2] + az[i] * ea[2] + rg[k] * er[2]
-                d[k] = math.sqrt(az[i] * az[i] + rg[k] * rg[k])
-            _line_from_children(Gf, 0, Gf.shape[0], cu0, cdu, cnu, cr0, cnr, ccen, crho, o, 0.0, dr_child, ea, X0, X1,
-                                X2, d, d, cyc_per_m, tu, tr, out[i], E0, E1, E2, acc2, fr_b, v_b, sn_b, cs_b, h2, t2)
+                out[i, k] = 0j
+            for c in range(Gf.shape[0]):
+                a0 = o[0] - ccen[c, 0]
+                a1 = o[1] - ccen[c, 1]
+                a2 = o[2] - ccen[c, 2]
+                for k in range(ny):
+                    g0 = az[i] * ea[0] + rg[k] * er[0]  # x - o
+                    g1 = az[i] * ea[1] + rg[k] * er[1]
+                    g2 = az[i] * ea[2] + rg[k] * er[2]
+                    rc = math.sqrt((g0 + a0) ** 2 + (g1 + a1) ** 2 + (g2 + a2) ** 2)
+                    d[k] = rc
+                    ex[k] = (g0 * (g0 + 2.0 * a0) + g1 * (g1 + 2.0 * a1) + g2 * (g2 + 2.0 * a2)) / (rc + crho[c]) + cres[c]
+                _line_from_children(Gf, c, c + 1, cu0, cdu, cnu, cr0, cnr, ccen, crho, ccen[c], crho[c], dr_child, ea,
+                                    X0, X1, X2, d, ex, cyc_per_m, tu, tr, row, E0, E1, E2, acc2, fr_b, v_b, sn_b, cs_b,
+                                    h2, t2)
+                for k in range(ny):
+                    out[i, k] += row[k]
