@@ -6,6 +6,9 @@ Data: the wide-angle arc of ``ffbp_scaling`` (4 degrees of a 7 km radius at 7.3 
 complex64 phase histories given to both libraries unchanged. Both grids are (i - n/2) x spacing
 along the plane's azimuth and range axes (the same pixels); the truth is evaluated on 8 evenly
 spread rows. FastSAR's images are sums (salkit's are means): divided by pulses x frequencies.
+The simulator's rows: salkit's raw-data simulator (``benchmarks/fast_simulation.py``: a 1.55 um
+spotlight, dechirped) on as many scatterers x pulses x samples as the scene, the exact direct sum
+(timed on a subset, scaled) against the non-uniform FFT, its error against the direct sum.
 No window in either. Each setting is timed warm, runs interleaved between the libraries, best of
 ``repeat``; threads: numba's (salkit) and OMP_NUM_THREADS (FastSAR), both set to the cores.
 
@@ -97,6 +100,16 @@ def bench_peers(sizes=(1024,), repeat=3, only: str | None = None):
             print(f"{n}^2 x {P} pulses x {K} | {lib:7s} | {label:22s} | {m['error_db']:7.1f} dB | "
                   f"{m['phase_p99_deg']:6.3f} deg | {best[(lib, label)]:7.3f} s | "
                   f"{n * n * P / best[(lib, label)]:.3g} px-pulses/s", flush=True)
+        if not only:  # the simulator's own rows: as many scatterers x pulses x samples, SAL raw data
+            from fast_simulation import bench_fast_simulation
+            sim = bench_fast_simulation(n_scat=int(t["scatterers"]), n_pulses=P, n_samples=K)
+            ops = t["scatterers"] * P * K
+            out.update({f"peers_{n}_simulation_{k}": v for k, v in sim.items()})
+            print(f"{n}^2 x {P} pulses x {K} | salkit  | simulate direct sum    | reference  |            | "
+                  f"{sim['direct_sim_s_estimated']:7.3f} s | {ops / sim['direct_sim_s_estimated']:.3g} scatterer-samples/s")
+            print(f"{n}^2 x {P} pulses x {K} | salkit  | simulate nufft (-80)   | {sim['fast_sim_error_db']:7.1f} dB |"
+                  f"            | {sim['fast_sim_s']:7.3f} s | {ops / sim['fast_sim_s']:.3g} scatterer-samples/s",
+                  flush=True)
     return out
 
 
