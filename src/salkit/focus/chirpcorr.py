@@ -145,8 +145,8 @@ def reference_phase(ref: np.ndarray, t: np.ndarray, f0: float, k: float, delay: 
     PhaseUnwrapError
         When a pulse's phase steps exceed pi/2 RMS (too weak or too fast to unwrap).
     """
-    lin = -TWO_PI * (f0 + k * t) * delay + math.pi * k * delay ** 2
-    z = np.angle(np.asarray(ref) * np.exp(-1j * lin)[None, :])  # the slow part, then unwrapped
+    model = reference_beat(t, f0, k, (), delay)  # the linear chirp's beat (its phase reduced in cycles)
+    z = np.angle(np.asarray(ref) * np.conj(model)[None, :])  # the slow part, then unwrapped
     z = np.unwrap(z, axis=1)
     steps = np.diff(z, axis=1)
     rms = np.sqrt(np.mean((steps - np.median(steps, axis=1, keepdims=True)) ** 2, axis=1))
@@ -188,8 +188,7 @@ def remove_reference_noise(signal: np.ndarray, ref: np.ndarray, t: np.ndarray, f
     z = reference_phase(ref, t, f0, k, delay)
     mean = z.mean(axis=0)
     out = (np.asarray(signal) * np.exp(-1j * (z - mean[None, :]))).astype(np.complex64)
-    lin = -TWO_PI * (f0 + k * t) * delay + math.pi * k * delay ** 2
-    return out, np.exp(1j * (lin + mean))
+    return out, reference_beat(t, f0, k, (), delay) * np.exp(1j * mean)
 
 
 def correct_deskew(signal: np.ndarray, e: np.ndarray, adc_rate: float, k: float) -> np.ndarray:
