@@ -30,9 +30,10 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 #: (label, former, keyword arguments) of salkit
-SALKIT = [("ffbp", "ffbp", {}), ("ffbp high", "ffbp", {"accuracy": "high"}), ("bp", "bp", {}),
-          ("bp high (32x)", "bp", {"upsample": 32}), ("bp_cubic", "bp_cubic", {}),
-          ("bp_cubic high (32x)", "bp_cubic", {"upsample": 32})]
+SALKIT = ([("ffbp", "ffbp", {}), ("ffbp high", "ffbp", {"accuracy": "high"}), ("bp", "bp", {}),
+           ("bp high (32x)", "bp", {"upsample": 32}), ("bp_cubic", "bp_cubic", {}),
+           ("bp_cubic high (32x)", "bp_cubic", {"upsample": 32})]
+          + [(f"bp_fitted {u}x", "bp_fitted", {"upsample": u}) for u in (4, 6, 8)] + [("bp_fitted", "bp_fitted", {})])
 #: (label, form_image keyword arguments) of FastSAR
 FASTSAR = ([(f"ffbp target {t} dB", {"algorithm": "ffbp", "target_db": float(t)}) for t in (-40, -50, -60)]
            + [(f"bp {i} {u}x", {"algorithm": "bp", "interp": i, "upsample": u})

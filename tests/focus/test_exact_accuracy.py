@@ -60,7 +60,7 @@ def form(alg, name, extent=1.0, **kw):
 
 
 #: Each level's geometries: every one at "standard"; at "high" (slower) those where the margin is least.
-HIGH = {"bp": ["wide4_climb_ground", "seed_560km"],
+HIGH = {"bp": ["wide4_climb_ground", "seed_560km"], "bp_fitted": ["seed_560km"],
         "ffbp": ["wide4_climb_ground", "wide4_climb_slant", "seed_5km", "seed_560km"]}
 #: The declared promises (salkit.registry.FORMERS), every former that makes one, held here.
 PROMISES = [(n, level, g) for n, spec in FORMERS.items() for level, acc in spec.accuracy.items()
@@ -98,3 +98,12 @@ def test_climbing_track_ground_plane_is_horizontal_and_orthonormal():
     a, r = ig.plane.azimuth, ig.plane.range
     assert abs(a[2]) < 1e-15 and abs(r[2]) < 1e-15
     assert abs(a @ r) < 1e-15
+
+
+@pytest.mark.parametrize("name", ["wide4_climb_ground", "seed_560km"])
+def test_the_fitted_kernel_at_low_upsampling(name):
+    """bp_fitted's speed settings: -85 dB from 6x profiles, -95 dB from 8x (its interpolation's
+    error, -87 and -97 dB on a white band, is the image's)."""
+    for up, bound in ((6, -85.0), (8, -95.0)):
+        img, truth = form("bp_fitted", name, upsample=up)
+        assert error_db(img, truth) < bound

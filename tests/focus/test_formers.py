@@ -48,7 +48,7 @@ def bp_nearest():
 def test_the_built_in_formers_are_declared():
     assert set(FORMERS.names()) >= {"bp", "ffbp", "pfa", "omegak", "exact"}
     assert FORMERS["omegak"].tracks == "straight" and FORMERS["omegak"].phase_reference == "track"
-    assert [n for n, s in FORMERS.items() if s.blocks is not None] == ["bp", "bp_cubic", "ffbp"]  # module order
+    assert [n for n, s in FORMERS.items() if s.blocks is not None] == ["bp", "bp_cubic", "bp_fitted", "ffbp"]  # module order
 
 
 def test_unknown_names_are_refused_with_the_nearest():
@@ -86,7 +86,7 @@ def test_the_readme_table_and_the_help_are_the_declarations():
 def test_tiling_reads_the_declarations():
     # a former that does not tile is refused with the ones that do
     need = memory_estimate(512, 512, 300, 300, "pfa")[0]
-    with pytest.raises(ResourceError, match="pfa cannot run in tiles: use --algorithm bp or bp_cubic or ffbp"):
+    with pytest.raises(ResourceError, match="pfa cannot run in tiles: use --algorithm bp or bp_cubic or bp_fitted or ffbp"):
         plan_tiling(512, 512, 300, 300, "pfa", need / 4)
     # the declared overlap of ffbp's tiles enters the estimate of a tile
     t = plan_tiling(512, 512, 300, 300, "ffbp", memory_estimate(512, 512, 300, 300, "ffbp")[0] / 3)

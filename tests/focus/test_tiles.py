@@ -51,7 +51,7 @@ def test_plan_covers_the_grid_once_within_the_budget(alg):
 
 
 def test_refusals_name_the_memory_and_the_budget():
-    with pytest.raises(ResourceError, match=r"pfa cannot run in tiles.*bp or bp_cubic or ffbp"):
+    with pytest.raises(ResourceError, match=r"pfa cannot run in tiles.*bp or bp_cubic or bp_fitted or ffbp"):
         plan_tiling(4000, 3000, 1000, 700, "pfa", 2 ** 20)
     with pytest.raises(ResourceError, match=r"one tile of 32 x 32 pixels.* needs about [0-9.]+ MiB of memory.*, more "
                                             r"than the 1 MiB available"):

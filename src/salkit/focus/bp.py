@@ -54,7 +54,7 @@ def spotlight_backprojection(pulses, grid: ImageGrid, window: Window, ranges, *,
         The pulse blocks, in order (a multiple of the kernel's 32 pulses long, but the last).
     upsample : int
         Range-profile upsampling.
-    interpolation : {"linear", "nearest", "cubic"}
+    interpolation : {"linear", "nearest", "cubic", "fitted"}
         How the profiles are read between bins.
     progress : callable, optional
         ``progress(done, total)`` in pulses (one block).
@@ -88,7 +88,7 @@ def backprojection_former(interpolation: str):
 
     Parameters
     ----------
-    interpolation : {"linear", "nearest", "cubic"}
+    interpolation : {"linear", "nearest", "cubic", "fitted"}
 
     Returns
     -------
@@ -193,3 +193,20 @@ form_bp_cubic = register_former(
     blocks=_blocks_cubic, memory=bp_memory,
     accuracy={"standard": Accuracy(f"{BP_UPSAMPLE}x profiles", -85.0, "-89 to -95 dB measured"),
               "high": Accuracy("32x profiles", -100.0, "-106 to -108.7 dB measured")})(_form_cubic)
+
+
+_form_fitted, _blocks_fitted = backprojection_former("fitted")
+
+#: The ``bp_fitted`` former: backprojection, its profiles read by four taps whose weights (cubics in
+#: the fraction) are fitted by least squares to the band the profile occupies
+#: (:func:`salkit.focus.profiles.fitted_coefficients`): at the cost of ``bp_cubic`` (the kernel's time
+#: hardly depends on the upsampling), -74 dB at 4x upsampling, -87 to -89 dB at 6x, -97 to -99 dB at 8x,
+#: -110 to -113.5 dB at 16x on the accuracy tests' geometries (X band to 560 km at 1.55 um).
+form_bp_fitted = register_former(
+    "bp_fitted", summary="backprojection, any trajectory: range profiles upsampled and read by four taps fitted "
+    "to the profile's band",
+    modes=("spotlight", "stripmap"), tracks="any", phase_reference="aperture_centre", tiles=True, tile_overlap=0,
+    blocks=_blocks_fitted, memory=bp_memory,
+    accuracy={"standard": Accuracy(f"{BP_UPSAMPLE}x profiles", -105.0, "-110.3 to -113.5 dB measured"),
+              "high": Accuracy("32x profiles", -105.0, "-110.6 to -113.7 dB measured: the float32 profiles and sums, "
+                               "not the interpolation, bound it")})(_form_fitted)

@@ -4,7 +4,8 @@
 For each pulse the phase history P(f) is turned into an upsampled range profile; each pixel at
 differential range dR = |x - p| - R_ref adds profile(dR) * exp(+j 4 pi f_c dR / c), the profile
 read between its bins by the interpolation named (:data:`INTERPOLATIONS`: linear, nearest, Keys
-cubic), whose mean response is divided out of the spectrum first.
+cubic, four taps fitted to the band), whose mean response is divided out of the spectrum first.
+The reading of the profiles is eight pixels at a time in vector registers (:mod:`salkit.focus.simd`).
 
 Precision: |x - p| is computed in float64 from the plane geometry (|x - p|^2 = A + g (B + g) for
 pixels x = o + g r along a range line), differenced against the float64 reference range, and
@@ -24,25 +25,29 @@ from ..geometry.ranges import range_offsets
 from ..signals.phase import sincos_cycles
 from ..constants import FFT_WORKERS, SPEED_OF_LIGHT
 from ..tolerances import BP_UPSAMPLE
-from .profiles import interpolation_of, pack_profiles, range_profiles
+from .profiles import interpolation_of, pack_profiles, pad_profiles, range_profiles
+from .simd import WIDTH, linear8, taps4x8
 
 WORKERS = FFT_WORKERS
 
 
 
 @njit(cache=True, fastmath=True, error_model="numpy", boundscheck=False)
-def _bp_row(pk, r0, inv_dr, hi, A, B, C, refp, rg, cyc_per_m, w, out_re, out_im, idx, frs, ss, cs, mode):
-    """One pulse into one range line, in two passes so the first one vectorises.
+def _bp_row(pk, r0, inv_dr, hi, A, B, C, refp, rg, cyc_per_m, w, out_re, out_im, idx, frs, ss, cs, mode, cf):
+    """One pulse into one range line, in two passes so that both vectorise.
 
     Pass 1 (SIMD): float64 range |x - p| from the line's quadratic, difference against the float64
     reference, at long range corrected by the exact R^2 - R_ref^2 = C + g (B + g) (a range's
     rounding, 6e-11 m at 560 km, would otherwise reach the phase), profile index and fraction,
-    phase reduced to [-0.5, 0.5) cycles in float64 and handed to the float32 sin/cos polynomial. Pass 2: gather the packed profile bin
-    (re, im, d_re, d_im), interpolate (``mode``: :data:`INTERPOLATIONS`' codes; 0 linear, 1 nearest,
-    2 Keys cubic), rotate and accumulate.
+    phase reduced to [-0.5, 0.5) cycles in float64 and handed to the float32 sin/cos polynomial.
+    Pass 2 (eight pixels at a time, :mod:`salkit.focus.simd`; the last few scalar): read the
+    profile ``pk`` at the pixel's offset, interpolate (``mode``: :data:`INTERPOLATIONS`' codes;
+    0 linear on records (re, im, d_re, d_im), 1 nearest, 2 and 3 four taps on the padded
+    interleaved profile with the weights' coefficients ``cf``), rotate and accumulate.
     """
     ny = rg.shape[0]
     h = 0.5 / refp
+    scale = np.uint32(2) if mode >= 2 else np.uint32(4)  # floats a bin in pk
     # corrected where a range's rounding (half an ulp) reaches 1e-4 rad of phase, an error floor of
     # -83 dB (beyond ~55 km at 1.55 um; never at X band)
     if refp * cyc_per_m * 2.2e-16 * 6.3 > 1e-4:
@@ -56,10 +61,10 @@ def _bp_row(pk, r0, inv_dr, hi, A, B, C, refp, rg, cyc_per_m, w, out_re, out_im,
             valid = np.float32((x >= 0.0) & (x <= hi))
             x = min(max(x, 0.0), hi)
             i0 = np.int32(x)
-            idx[j] = i0
+            idx[j] = np.uint32(i0) * scale
             frs[j] = np.float32(x - i0)
             cyc = dR * cyc_per_m
-            y = np.float32(cyc - np.floor(cyc + 0.5))  # in [-0.5, 0.5), reduced in float64 (vectorises)
+            y = np.float32(cyc - np.rint(cyc))  # in [-0.5, 0.5], reduced in float64 (vectorises)
             s, c = sincos_cycles(y)
             ss[j] = s * valid * w
             cs[j] = c * valid * w
@@ -71,47 +76,47 @@ def _bp_row(pk, r0, inv_dr, hi, A, B, C, refp, rg, cyc_per_m, w, out_re, out_im,
             valid = np.float32((x >= 0.0) & (x <= hi))
             x = min(max(x, 0.0), hi)
             i0 = np.int32(x)
-            idx[j] = i0
+            idx[j] = np.uint32(i0) * scale
             frs[j] = np.float32(x - i0)
             cyc = dR * cyc_per_m
-            y = np.float32(cyc - np.floor(cyc + 0.5))
+            y = np.float32(cyc - np.rint(cyc))
             s, c = sincos_cycles(y)
             ss[j] = s * valid * w
             cs[j] = c * valid * w
+    n8 = ny - ny % WIDTH
     if mode == 0:  # linear: the packed forward difference
-        for j in range(ny):
-            i0 = idx[j]
+        for j in range(0, n8, WIDTH):
+            linear8(pk, idx, frs, ss, cs, out_re, out_im, j)
+        for j in range(n8, ny):
+            k = idx[j]
             f = frs[j]
-            vr = pk[i0, 0] + f * pk[i0, 2]
-            vi = pk[i0, 1] + f * pk[i0, 3]
+            vr = pk[k] + f * pk[k + np.uint32(2)]
+            vi = pk[k + np.uint32(1)] + f * pk[k + np.uint32(3)]
             s = ss[j]
             c = cs[j]
             out_re[j] += vr * c - vi * s
             out_im[j] += vr * s + vi * c
     elif mode == 1:  # nearest bin
         for j in range(ny):
-            i0 = idx[j] + np.int32(frs[j] >= 0.5)
-            vr = pk[i0, 0]
-            vi = pk[i0, 1]
+            k = idx[j] + np.uint32(4) * np.uint32(frs[j] >= 0.5)
+            vr = pk[k]
+            vi = pk[k + np.uint32(1)]
             s = ss[j]
             c = cs[j]
             out_re[j] += vr * c - vi * s
             out_im[j] += vr * s + vi * c
-    else:  # Keys cubic convolution (a = -1/2), four bins
-        last = pk.shape[0] - 1
-        for j in range(ny):
-            i0 = idx[j]
+    else:  # four taps, bins -1 .. 2 (Keys cubic, or fitted to the band)
+        for j in range(0, n8, WIDTH):
+            taps4x8(pk, idx, frs, ss, cs, out_re, out_im, j, cf)
+        for j in range(n8, ny):
+            k = idx[j]
             t = frs[j]
-            t2 = t * t
-            t3 = t2 * t
-            wm = np.float32(-0.5) * t3 + t2 - np.float32(0.5) * t
-            w0 = np.float32(1.5) * t3 - np.float32(2.5) * t2 + np.float32(1.0)
-            w1 = np.float32(-1.5) * t3 + np.float32(2.0) * t2 + np.float32(0.5) * t
-            w2 = np.float32(0.5) * t3 - np.float32(0.5) * t2
-            im1 = max(i0 - 1, 0)
-            ip2 = min(i0 + 2, last)
-            vr = wm * pk[im1, 0] + w0 * pk[i0, 0] + w1 * pk[i0 + 1, 0] + w2 * pk[ip2, 0]
-            vi = wm * pk[im1, 1] + w0 * pk[i0, 1] + w1 * pk[i0 + 1, 1] + w2 * pk[ip2, 1]
+            vr = np.float32(0.0)
+            vi = np.float32(0.0)
+            for q in range(4):
+                wq = cf[4 * q] + t * (cf[4 * q + 1] + t * (cf[4 * q + 2] + t * cf[4 * q + 3]))
+                vr += wq * pk[k + np.uint32(2 * q)]
+                vi += wq * pk[k + np.uint32(2 * q + 1)]
             s = ss[j]
             c = cs[j]
             out_re[j] += vr * c - vi * s
@@ -124,14 +129,19 @@ ROW_TILE = 8
 
 
 @njit(parallel=True, nogil=True, cache=True, fastmath=True)
-def bp_kernel(packed, r0, inv_dr, pos, ref, D, row_origin, rdir, rg, cyc_per_m, weight, img_re, img_im, mode=0):
+def bp_kernel(profiles, n_bins, r0, inv_dr, pos, ref, D, row_origin, rdir, rg, cyc_per_m, weight, img_re, img_im,
+              mode, cf):
     """Accumulate a block of pulses into the image, tiles of :data:`ROW_TILE` rows in parallel.
 
     Parameters
     ----------
-    packed : float32 (P, Nb, 4)
-        Range profiles packed per bin as (re, im, re[b+1]-re[b], im[b+1]-im[b]); bin b is at
+    profiles : float32 (P, L)
+        Range profiles as the interpolation reads them (:func:`kernel_profiles`): records (re,
+        im, re[b+1]-re[b], im[b+1]-im[b]) a bin for linear and nearest, interleaved (re, im) with
+        one bin of padding before and two after for the four-tap kernels; bin b is at
         differential range r0 + b/inv_dr.
+    n_bins : int
+        Bins a profile.
     pos : float64 (P, 3)
     ref : float64 (P,)
     D : float64 (P,)
@@ -149,14 +159,16 @@ def bp_kernel(packed, r0, inv_dr, pos, ref, D, row_origin, rdir, rg, cyc_per_m, 
     img_re, img_im : float32 (nx, ny), accumulated in place.
     mode : int
         Interpolation of the profiles (:data:`INTERPOLATIONS`' codes).
+    cf : float32 (16,)
+        The four-tap kernels' coefficients (tap-major), unused by the others.
     """
     nx = row_origin.shape[0]
     ny = rg.shape[0]
     P = pos.shape[0]
-    hi = packed.shape[1] - 2.0
+    hi = n_bins - 2.0
     n_tiles = (nx + ROW_TILE - 1) // ROW_TILE
     for t in prange(n_tiles):
-        idx = np.empty(ny, np.int32)
+        idx = np.empty(ny, np.uint32)
         frs = np.empty(ny, np.float32)
         ss = np.empty(ny, np.float32)
         cs = np.empty(ny, np.float32)
@@ -175,8 +187,42 @@ def bp_kernel(packed, r0, inv_dr, pos, ref, D, row_origin, rdir, rg, cyc_per_m, 
                 o1 = row_origin[i, 1]
                 o2 = row_origin[i, 2]
                 C = D[p] + o0 * (o0 - 2.0 * pos[p, 0]) + o1 * (o1 - 2.0 * pos[p, 1]) + o2 * (o2 - 2.0 * pos[p, 2])
-                _bp_row(packed[p], r0, inv_dr, hi, A, B, C, ref[p], rg, cyc_per_m, np.float32(w),
-                        img_re[i], img_im[i], idx, frs, ss, cs, mode)
+                _bp_row(profiles[p], r0, inv_dr, hi, A, B, C, ref[p], rg, cyc_per_m, np.float32(w),
+                        img_re[i], img_im[i], idx, frs, ss, cs, mode, cf)
+
+
+def kernel_profiles(prof: np.ndarray, interpolation: str, n_samples: int) -> tuple[np.ndarray, np.ndarray]:
+    """Range profiles laid out for :func:`bp_kernel`, and the interpolation's coefficients.
+
+    Parameters
+    ----------
+    prof : complex64 (P, Nb)
+        Upsampled range profiles (:func:`salkit.focus.profiles.range_profiles`).
+    interpolation : {"linear", "nearest", "cubic", "fitted"}
+    n_samples : int
+        Frequencies a pulse (the band a profile occupies: ``n_samples`` of its ``Nb`` bins'
+        frequencies; the fitted kernel is fitted to it).
+
+    Returns
+    -------
+    profiles : float32 (P, L)
+        Packed records (linear, nearest: :func:`salkit.focus.profiles.pack_profiles`) or the
+        padded interleaved profile (four taps: :func:`salkit.focus.profiles.pad_profiles`).
+    cf : float32 (16,)
+        The four-tap kernel's coefficients, tap-major (zeros for the others).
+
+    Examples
+    --------
+    >>> p, cf = kernel_profiles(np.ones((2, 5), np.complex64), "cubic", 2)
+    >>> p.shape, cf[:4].tolist()
+    ((2, 16), [0.0, -0.5, 1.0, -0.5])
+    """
+    spec = interpolation_of(interpolation)
+    P, nb = prof.shape
+    if spec.coefficients is None:
+        return pack_profiles(prof).reshape(P, 4 * nb), np.zeros(16, np.float32)
+    cf = np.ascontiguousarray(spec.coefficients(int(n_samples), int(nb)), np.float32).ravel()
+    return pad_profiles(prof), cf
 
 
 #: Bytes of one kernel call's range profiles (the upsampled FFT buffer and its packed copy): long
@@ -269,10 +315,11 @@ def backproject(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_ran
         prof, r0, dr, f_c = range_profiles(ph[a:b], freq, upsample, range_window, linear_compensation,
                                            interpolation)
         cyc = 2.0 * f_c / SPEED_OF_LIGHT
-        bp_kernel(pack_profiles(prof), r0, 1.0 / dr,
+        kp, cf = kernel_profiles(prof, interpolation, ph.shape[1])
+        bp_kernel(kp, prof.shape[1], r0, 1.0 / dr,
                   np.ascontiguousarray(positions[a:b], dtype=np.float64),
                   np.ascontiguousarray(ref_range[a:b], dtype=np.float64), D[a:b], row_origin, rdir, rg, cyc,
-                  np.ascontiguousarray(weight[:, a:b], dtype=np.float32), img_re, img_im, mode)
+                  np.ascontiguousarray(weight[:, a:b], dtype=np.float32), img_re, img_im, mode, cf)
         if progress is not None:
             progress(b, P)
     return img_re + 1j * img_im
@@ -300,7 +347,7 @@ def _contrib_kernel(packed, r0, inv_dr, pos, ref, pts, cyc_per_m, out):
             vr = pk[i0, 0] + f * pk[i0, 2]
             vi = pk[i0, 1] + f * pk[i0, 3]
             cyc = dR * cyc_per_m
-            y = np.float32(cyc - np.floor(cyc + 0.5))
+            y = np.float32(cyc - np.rint(cyc))
             s, c = sincos_cycles(y)
             out[p, k] = complex(vr * c - vi * s, vr * s + vi * c)
 

@@ -48,7 +48,7 @@ def stripmap_backprojection(ph, plane, az, rg, win, upsample=BP_UPSAMPLE, progre
         Range-profile upsampling of the backprojection.
     progress : callable, optional
         ``progress(done, total)`` in pulses.
-    interpolation : {"linear", "nearest", "cubic"}
+    interpolation : {"linear", "nearest", "cubic", "fitted"}
         How the kernel reads the range profiles between bins.
 
     Returns

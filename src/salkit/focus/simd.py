@@ -1,0 +1,200 @@
+"""Eight pixels at a time: the second pass of the backprojection kernel (:mod:`salkit.focus.bp_kernel`)
+written as LLVM vector code, for numba functions.
+
+The second pass reads each pixel's range-profile bins at an index computed by the first pass: a
+gather, which LLVM leaves scalar on AMD Zen (its gather instructions are microcoded and slower than
+scalar loads) and cannot vectorise anyway while it cannot prove the profile and the image apart.
+These intrinsics load each of eight pixels' bins as one short vector (the bins a pixel needs are
+adjacent in memory), transpose the eight vectors in registers into one vector a quantity
+(eight pixels' real parts, imaginary parts, ...), and do the interpolation, the rotation by the
+pixel's phase and the accumulation eight pixels wide. The IR is target-independent: LLVM lowers it
+to AVX-512, AVX2 or SSE shuffles as the machine has.
+
+Every pointer argument is a numba array (1-D, C-contiguous); ``j`` is the first of the eight pixels,
+and the caller keeps ``j + 8 <= len(idx)`` and every offset plus the bins read inside the profile.
+"""
+from __future__ import annotations
+
+import llvmlite.ir as ir
+from numba import types
+from numba.extending import intrinsic
+
+_F32 = ir.FloatType()
+_I32 = ir.IntType(32)
+_I64 = ir.IntType(64)
+_V8F = ir.VectorType(_F32, 8)
+_V4F = ir.VectorType(_F32, 4)
+_V8I = ir.VectorType(_I32, 8)
+
+#: Pixels an intrinsic handles.
+WIDTH = 8
+
+
+def _data(context, builder, aty, aval):
+    return context.make_array(aty)(context, builder, aval).data
+
+
+def _load(builder, base, j, vty):
+    p = builder.bitcast(builder.gep(base, [j]), vty.as_pointer())
+    return builder.load(p, align=4)
+
+
+def _store(builder, v, base, j):
+    p = builder.bitcast(builder.gep(base, [j]), v.type.as_pointer())
+    builder.store(v, p, align=4)
+
+
+def _mask(*ix):
+    return ir.Constant(ir.VectorType(_I32, len(ix)), list(ix))
+
+
+def _splat(builder, x):
+    v = builder.insert_element(ir.Constant(_V8F, ir.Undefined), x, ir.Constant(_I32, 0))
+    return builder.shuffle_vector(v, v, _mask(*([0] * 8)))
+
+
+def transpose8(builder, rows):
+    """The transpose of eight ``<8 x float>`` values (three stages of two-input shuffles).
+
+    Parameters
+    ----------
+    builder : llvmlite.ir.IRBuilder
+    rows : list of 8 llvmlite values, <8 x float>
+
+    Returns
+    -------
+    list of 8 llvmlite values, <8 x float>
+        ``out[k][l] = rows[l][k]``.
+    """
+    t = []
+    for q in range(4):
+        a, b = rows[2 * q], rows[2 * q + 1]
+        t.append(builder.shuffle_vector(a, b, _mask(0, 8, 2, 10, 4, 12, 6, 14)))
+        t.append(builder.shuffle_vector(a, b, _mask(1, 9, 3, 11, 5, 13, 7, 15)))
+    u = [None] * 8
+    for q in range(2):
+        for h in range(2):
+            a, b = t[4 * q + h], t[4 * q + 2 + h]
+            u[4 * q + h] = builder.shuffle_vector(a, b, _mask(0, 1, 8, 9, 4, 5, 12, 13))
+            u[4 * q + 2 + h] = builder.shuffle_vector(a, b, _mask(2, 3, 10, 11, 6, 7, 14, 15))
+    out = [None] * 8
+    for k in range(4):
+        out[k] = builder.shuffle_vector(u[k], u[4 + k], _mask(0, 1, 2, 3, 8, 9, 10, 11))
+        out[k + 4] = builder.shuffle_vector(u[k], u[4 + k], _mask(4, 5, 6, 7, 12, 13, 14, 15))
+    return out
+
+
+def _rotate_accumulate(builder, vr, vi, sp, cp, rp, mp, j):
+    """out_re[j:j+8] += vr c - vi s; out_im[j:j+8] += vr s + vi c."""
+    s = _load(builder, sp, j, _V8F)
+    c = _load(builder, cp, j, _V8F)
+    o_r = _load(builder, rp, j, _V8F)
+    o_i = _load(builder, mp, j, _V8F)
+    o_r = builder.fadd(o_r, builder.fsub(builder.fmul(vr, c), builder.fmul(vi, s)))
+    o_i = builder.fadd(o_i, builder.fadd(builder.fmul(vr, s), builder.fmul(vi, c)))
+    _store(builder, o_r, rp, j)
+    _store(builder, o_i, mp, j)
+
+
+@intrinsic
+def linear8(typingctx, pk, idx, frs, ss, cs, out_re, out_im, j):
+    """Pass 2 of linear interpolation for pixels ``j .. j+7``.
+
+    Called from numba code (the arguments are numba values; ``typingctx`` is numba's).
+
+    Parameters
+    ----------
+    pk : float32[::1]
+        Profile records (re, im, d_re, d_im) a bin, flattened.
+    idx : uint32[::1]
+        Offset of each pixel's record in ``pk`` (4 x bin).
+    frs, ss, cs : float32[::1]
+        Fraction between bins, weighted sine and cosine of the pixel's phase.
+    out_re, out_im : float32[::1]
+        Accumulators.
+    j : int64
+
+    Returns
+    -------
+    none
+        ``out[j + l] += (re + f d_re + 1j (im + f d_im)) (c + 1j s)``, l = 0..7.
+    """
+    sig = types.void(pk, idx, frs, ss, cs, out_re, out_im, j)
+
+    def codegen(context, builder, signature, args):
+        pkp, ip, fp, sp, cp, rp, mp = (_data(context, builder, signature.args[k], args[k]) for k in range(7))
+        jj = args[7]
+        iv = _load(builder, ip, jj, _V8I)
+        recs = []
+        for lane in range(8):
+            off = builder.zext(builder.extract_element(iv, ir.Constant(_I32, lane)), _I64)
+            recs.append(_load(builder, pkp, off, _V4F))
+        # two records a vector, then (re re re re im im im im) and (dre .. dim ..) of four pixels
+        pairs = [builder.shuffle_vector(recs[2 * q], recs[2 * q + 1], _mask(*range(8))) for q in range(4)]
+        lo = [builder.shuffle_vector(pairs[2 * h], pairs[2 * h + 1], _mask(0, 4, 8, 12, 1, 5, 9, 13)) for h in range(2)]
+        hi = [builder.shuffle_vector(pairs[2 * h], pairs[2 * h + 1], _mask(2, 6, 10, 14, 3, 7, 11, 15)) for h in range(2)]
+        first, second = _mask(0, 1, 2, 3, 8, 9, 10, 11), _mask(4, 5, 6, 7, 12, 13, 14, 15)
+        re = builder.shuffle_vector(lo[0], lo[1], first)
+        im = builder.shuffle_vector(lo[0], lo[1], second)
+        dre = builder.shuffle_vector(hi[0], hi[1], first)
+        dim = builder.shuffle_vector(hi[0], hi[1], second)
+        f = _load(builder, fp, jj, _V8F)
+        vr = builder.fadd(re, builder.fmul(f, dre))
+        vi = builder.fadd(im, builder.fmul(f, dim))
+        _rotate_accumulate(builder, vr, vi, sp, cp, rp, mp, jj)
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@intrinsic
+def taps4x8(typingctx, pc, idx, frs, ss, cs, out_re, out_im, j, cf):
+    """Pass 2 of a four-tap interpolation (weights cubic in the fraction) for pixels ``j .. j+7``.
+
+    Called from numba code (the arguments are numba values; ``typingctx`` is numba's).
+
+    Parameters
+    ----------
+    pc : float32[::1]
+        Profile as interleaved (re, im) floats, one bin of padding before and two after.
+    idx : uint32[::1]
+        Offset in ``pc`` of each pixel's first tap (2 x (bin - 1) + 2 = 2 x bin).
+    frs, ss, cs : float32[::1]
+        Fraction t between bins, weighted sine and cosine of the pixel's phase.
+    out_re, out_im : float32[::1]
+        Accumulators.
+    j : int64
+    cf : float32[::1]
+        16 coefficients, tap-major: tap k (bins -1, 0, 1, 2) weighs sum_d cf[4 k + d] t^d.
+
+    Returns
+    -------
+    none
+    """
+    sig = types.void(pc, idx, frs, ss, cs, out_re, out_im, j, cf)
+
+    def codegen(context, builder, signature, args):
+        pcp, ip, fp, sp, cp, rp, mp, cfp = (_data(context, builder, signature.args[k], args[k])
+                                            for k in (0, 1, 2, 3, 4, 5, 6, 8))
+        jj = args[7]
+        iv = _load(builder, ip, jj, _V8I)
+        rows = []
+        for lane in range(8):
+            off = builder.zext(builder.extract_element(iv, ir.Constant(_I32, lane)), _I64)
+            rows.append(_load(builder, pcp, off, _V8F))
+        cols = transpose8(builder, rows)  # re, im of tap -1, then 0, 1, 2
+        t = _load(builder, fp, jj, _V8F)
+        vr = vi = None
+        for k in range(4):
+            c = [_splat(builder, builder.load(builder.gep(cfp, [ir.Constant(_I64, 4 * k + d)]))) for d in range(4)]
+            w = builder.fadd(c[2], builder.fmul(t, c[3]))
+            w = builder.fadd(c[1], builder.fmul(t, w))
+            w = builder.fadd(c[0], builder.fmul(t, w))
+            r = builder.fmul(w, cols[2 * k])
+            m = builder.fmul(w, cols[2 * k + 1])
+            vr = r if vr is None else builder.fadd(vr, r)
+            vi = m if vi is None else builder.fadd(vi, m)
+        _rotate_accumulate(builder, vr, vi, sp, cp, rp, mp, jj)
+        return context.get_dummy_value()
+
+    return sig, codegen
