@@ -33,7 +33,7 @@ WORKERS = FFT_WORKERS
 
 
 @njit(cache=True, fastmath=True, error_model="numpy", boundscheck=False)
-def _bp_row(pk, r0, inv_dr, hi, A, B, C, refp, rg, cyc_per_m, w, out_re, out_im, idx, frs, ss, cs, mode, cf):
+def _bp_row(pk, r0, inv_dr, hi, A, B, C, refp, rg, cyc_per_m, w, out_re, out_im, idx, frs, ss, cs, mode, cf, inside):
     """One pulse into one range line, in two passes so that both vectorise.
 
     Pass 1 (SIMD): float64 range |x - p| from the line's quadratic, difference against the float64
@@ -68,6 +68,20 @@ def _bp_row(pk, r0, inv_dr, hi, A, B, C, refp, rg, cyc_per_m, w, out_re, out_im,
             s, c = sincos_cycles(y)
             ss[j] = s * valid * w
             cs[j] = c * valid * w
+    elif inside:  # the whole line inside the profile: no clamp, no mask
+        r0i = r0 * inv_dr
+        for j in range(ny):
+            g = rg[j]
+            dR = math.sqrt(A + g * (B + g)) - refp
+            x = dR * inv_dr - r0i
+            i0 = np.int32(x)
+            idx[j] = np.uint32(i0) * scale
+            frs[j] = np.float32(x - i0)
+            cyc = dR * cyc_per_m
+            y = np.float32(cyc - np.rint(cyc))
+            s, c = sincos_cycles(y)
+            ss[j] = s * w
+            cs[j] = c * w
     else:
         for j in range(ny):
             g = rg[j]
@@ -166,6 +180,8 @@ def bp_kernel(profiles, n_bins, r0, inv_dr, pos, ref, D, row_origin, rdir, rg, c
     ny = rg.shape[0]
     P = pos.shape[0]
     hi = n_bins - 2.0
+    g_lo = rg.min()
+    g_hi = rg.max()
     n_tiles = (nx + ROW_TILE - 1) // ROW_TILE
     for t in prange(n_tiles):
         idx = np.empty(ny, np.uint32)
@@ -187,8 +203,14 @@ def bp_kernel(profiles, n_bins, r0, inv_dr, pos, ref, D, row_origin, rdir, rg, c
                 o1 = row_origin[i, 1]
                 o2 = row_origin[i, 2]
                 C = D[p] + o0 * (o0 - 2.0 * pos[p, 0]) + o1 * (o1 - 2.0 * pos[p, 1]) + o2 * (o2 - 2.0 * pos[p, 2])
+                # |x - p| along the line is convex in g: least at the foot of the perpendicular
+                # (clipped to the line), greatest at an end; a bin of margin for the roundings
+                gc = min(max(-0.5 * B, g_lo), g_hi)
+                x_lo = (math.sqrt(A + gc * (B + gc)) - ref[p] - r0) * inv_dr
+                x_hi = (math.sqrt(max(A + g_lo * (B + g_lo), A + g_hi * (B + g_hi))) - ref[p] - r0) * inv_dr
+                inside = (x_lo >= 1.0) & (x_hi <= hi - 1.0)
                 _bp_row(profiles[p], r0, inv_dr, hi, A, B, C, ref[p], rg, cyc_per_m, np.float32(w),
-                        img_re[i], img_im[i], idx, frs, ss, cs, mode, cf)
+                        img_re[i], img_im[i], idx, frs, ss, cs, mode, cf, inside)
 
 
 def kernel_profiles(prof: np.ndarray, interpolation: str, n_samples: int) -> tuple[np.ndarray, np.ndarray]:
