@@ -42,7 +42,8 @@ CASES = [
 ]
 #: (label, former, keyword arguments)
 FORMERS = [("bp", "bp", {}), ("bp_high", "bp", {"upsample": 32}), ("ffbp", "ffbp", {}),
-           ("ffbp_high", "ffbp", {"accuracy": "high"}), ("pfa", "pfa", {})]
+           ("ffbp_high", "ffbp", {"accuracy": "high"}), ("pfa", "pfa", {}),
+           ("bp_fitted_6x", "bp_fitted", {"upsample": 6}), ("bp_fitted_8x", "bp_fitted", {"upsample": 8})]
 
 
 def _case(tb, n, every):
