@@ -124,3 +124,30 @@ def test_local_cluster_workers_run_numba_on_one_thread_even_from_a_script(tmp_pa
     r = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120, env=env)
     assert r.returncode == 0, r.stderr
     assert r.stdout.strip().splitlines()[-2:] == ["[1, 1] (10.0, (1, 1))", "True"], r.stdout
+
+
+@pytest.mark.parametrize("alg,upsample", [("bp", 16), ("bp", 32), ("bp_cubic", 16), ("bp_fitted", 16)])
+def test_backprojection_estimate_bounds_its_allocation(alg, upsample):
+    """Backprojection's estimate covers what it allocates (tracemalloc: a kernel call's upsampled
+    profiles and their packed or padded copy, the accumulators and the image) at the standard and
+    the high upsampling, and is not far above it."""
+    import tracemalloc
+
+    from salkit import simulate
+    from salkit.focus import memory_estimate, phase_history
+    from salkit.focus.formers import ImageGrid, get_former
+    from salkit.signals.windows import Window
+    sc = parse_scenario(SPOT)
+    raw = simulate(sc)
+    ph = phase_history(raw)
+    grid = ImageGrid.of(ph, sc.processing.grid)
+    former, win = get_former(alg), Window("none")
+    former(ph, grid, win, upsample=upsample)  # compiled before measuring
+    tracemalloc.start()
+    former(ph, grid, win, upsample=upsample)
+    _, peak = tracemalloc.get_traced_memory()
+    tracemalloc.stop()
+    P, M = raw["signal"].shape
+    need, what = memory_estimate(P, M, sc.processing.grid.nx, sc.processing.grid.ny, alg, upsample=upsample)
+    assert alg in what
+    assert peak <= need < 5 * peak, (peak, need)

@@ -52,6 +52,6 @@ def test_cphd_read_lazily_in_vector_blocks(tmp_path, collection):
     P, M = eager["signal"].shape
     whole = focus(eager, sc.processing, algorithm="bp")
     blocks = focus(lazy, sc.processing, algorithm="bp",
-                   memory_limit=0.75 * memory_estimate(P, M, sc.processing.grid.nx, sc.processing.grid.ny, raw=False)[0])
+                   memory_limit=0.85 * memory_estimate(P, M, sc.processing.grid.nx, sc.processing.grid.ny, raw=False)[0])
     assert blocks.attrs["pulse_block"] < P
     np.testing.assert_array_equal(blocks["image"].values, whole["image"].values)

@@ -79,7 +79,11 @@ def spotlight_backprojection(pulses, grid: ImageGrid, window: Window, ranges, *,
                     W, wr, upsample=upsample, out=(re, im), interpolation=interpolation,
                     progress=progress if len(ranges) == 1 else None)
     norm = np.maximum(np.broadcast_to(wa[None, :], (nx, P)).sum(axis=1), 1e-30) * wr.sum()
-    return ((re + 1j * im) / norm[:, None]).astype(np.complex64)
+    scale = (1.0 / norm).astype(np.float32)[:, None]
+    img = np.empty((nx, ny), np.complex64)  # no complex128 temporaries: 8 bytes a pixel beside the sums
+    np.multiply(re, scale, out=img.real)
+    np.multiply(im, scale, out=img.imag)
+    return img
 
 
 def backprojection_former(interpolation: str):
@@ -158,7 +162,9 @@ def backprojection_former(interpolation: str):
 
 def bp_memory(sizes: Sizes) -> float:
     """Bytes backprojection adds: one kernel call's upsampled range profiles (bounded by the call's
-    pulses, :func:`salkit.focus.bp_kernel.profile_block`).
+    pulses, :func:`salkit.focus.bp_kernel.profile_block`) at the sizes' upsampling, 24 bytes a bin:
+    the complex64 profile (transformed in place) and the kernel's layout of it (16 bytes a bin packed
+    for linear and nearest, 8 padded for four taps).
 
     Parameters
     ----------
@@ -168,7 +174,8 @@ def bp_memory(sizes: Sizes) -> float:
     -------
     float
     """
-    return profile_block(sizes.samples, BP_UPSAMPLE) * 2 * 8.0 * sfft.next_fast_len(int(sizes.samples * BP_UPSAMPLE))
+    up = max(int(sizes.upsample), 1)
+    return profile_block(sizes.samples, up) * 24.0 * sfft.next_fast_len(int(sizes.samples * up))
 
 
 _form_linear, _blocks_linear = backprojection_former("linear")

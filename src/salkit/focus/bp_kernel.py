@@ -317,7 +317,8 @@ def backproject(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_ran
 
     Returns
     -------
-    complex (nx, ny), not normalised.
+    complex64 (nx, ny) or None
+        The image, not normalised; None when ``out`` is given (the accumulators hold it).
     """
     nx, ny = row_origin.shape[0], rg.size
     mode = interpolation_of(interpolation).code
@@ -342,9 +343,15 @@ def backproject(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_ran
                   np.ascontiguousarray(positions[a:b], dtype=np.float64),
                   np.ascontiguousarray(ref_range[a:b], dtype=np.float64), D[a:b], row_origin, rdir, rg, cyc,
                   np.ascontiguousarray(weight[:, a:b], dtype=np.float32), img_re, img_im, mode, cf)
+        del prof, kp  # freed before the next call's profiles are made: one call's at a time (the estimate)
         if progress is not None:
             progress(b, P)
-    return img_re + 1j * img_im
+    if out is not None:
+        return None
+    img = np.empty((nx, ny), np.complex64)
+    img.real = img_re
+    img.imag = img_im
+    return img
 
 
 @njit(parallel=True, nogil=True, cache=True, fastmath=True)

@@ -108,6 +108,8 @@ class Sizes(NamedTuple):
         The output grid, pixels.
     cover : int
         Pixels of a formed grid larger than the output (PFA's cover), else nx * ny.
+    upsample : int
+        Range-profile upsampling of backprojection (the processing's, or the high-accuracy one).
     """
 
     pulses: int
@@ -115,6 +117,7 @@ class Sizes(NamedTuple):
     nx: int
     ny: int
     cover: int
+    upsample: int = BP_UPSAMPLE
 
 
 @dataclass(frozen=True)

@@ -30,7 +30,7 @@ from ..params.models import Grid, Processing, Scenario
 from ..params.scenario import stored_scenario
 from ..resources import available_memory, parse_size, size_text, user_limit
 from ..signals.windows import Window
-from ..tolerances import GRID_SPACING_OF_RESOLUTION
+from ..tolerances import BP_UPSAMPLE, GRID_SPACING_OF_RESOLUTION
 from ..simulate.echoes import memory_estimate as simulate_memory_estimate, signal_shape
 from .downlooking import focus_downlooking_raw
 from .formers import ImageGrid, ImageResult, former_spec, get_former
@@ -50,6 +50,26 @@ for _name in BUILT_IN_MODULES:
 HIGH_ACCURACY_UPSAMPLE = 32
 
 
+def range_upsample(processing: Optional[Processing], accuracy: str | None = None) -> int:
+    """Backprojection's range-profile upsampling for these settings: the processing's
+    ``range_upsample`` (default :data:`salkit.tolerances.BP_UPSAMPLE`), at least
+    :data:`HIGH_ACCURACY_UPSAMPLE` for ``accuracy: high``.
+
+    Parameters
+    ----------
+    processing : Processing or None
+    accuracy : {"standard", "high"}, optional
+        Overrides the processing's.
+
+    Returns
+    -------
+    int
+    """
+    up = processing.range_upsample if processing is not None else BP_UPSAMPLE
+    acc = accuracy or (processing.accuracy if processing is not None else "standard")
+    return up if acc == "standard" else max(up, HIGH_ACCURACY_UPSAMPLE)
+
+
 def run_memory_estimate(scenario: Scenario) -> tuple[float, str]:
     """Peak memory of :func:`salkit.simulate.simulate` then :func:`focus`: the larger of simulating and of focusing while the raw signal is
     held (:func:`salkit.simulate.memory_estimate`, :func:`salkit.focus.memory_estimate`), bytes.
@@ -65,7 +85,8 @@ def run_memory_estimate(scenario: Scenario) -> tuple[float, str]:
     sim, _ = simulate_memory_estimate(scenario)
     P, N = signal_shape(scenario)
     g = scenario.processing.grid
-    foc, _ = memory_estimate(P, N, g.nx, g.ny, scenario.processing.algorithm, raw=True)
+    foc, _ = memory_estimate(P, N, g.nx, g.ny, scenario.processing.algorithm, raw=True,
+                             upsample=range_upsample(scenario.processing))
     return max(sim, foc + 8.0 * P * N), (f"simulating and focusing {P} pulses x {N} samples "
                                          f"({8.0 * P * N / 2 ** 30:.3g} GiB of signal) onto {g.nx} x {g.ny} pixels")
 
@@ -175,7 +196,8 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
     chirp = processing.chirp_correction if processing is not None else "none"
     noise_fix = processing.phase_noise_correction if processing is not None else "none"
     spread = _spread(client)
-    tiling, held = _plan(raw, alg, g0.nx if g0 else 256, g0.ny if g0 else 256, memory_limit, out is None, spread)
+    up = range_upsample(processing, accuracy)
+    tiling, held = _plan(raw, alg, g0.nx if g0 else 256, g0.ny if g0 else 256, memory_limit, out is None, spread, up)
     if tiling.pulse_block < P:  # the signal is read and range-compressed a block at a time
         pulses = DatasetPulses(raw, chirp, noise_fix)
         ph = pulses.geometry()
@@ -198,7 +220,7 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
                             f"spacing must not exceed the resolution (azimuth {res['azimuth']:.4g} m, "
                             f"range {res['range']:.4g} m)")
     if (g.nx, g.ny) != (tiling.nx, tiling.ny):
-        tiling, _ = _plan(raw, alg, g.nx, g.ny, memory_limit, out is None, spread)
+        tiling, _ = _plan(raw, alg, g.nx, g.ny, memory_limit, out is None, spread, up)
     if tiling.tiled:
         _log.info("focusing %s", tiling.describe())
         if hasattr(progress, "renamed"):  # a stage of a run's progress: its unit is now the tile
@@ -229,14 +251,15 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
     return add_collection_geometry(image, raw, ph)
 
 
-def _plan(raw: xr.Dataset, alg: str, nx: int, ny: int, memory_limit, hold_image: bool, spread: dict):
+def _plan(raw: xr.Dataset, alg: str, nx: int, ny: int, memory_limit, hold_image: bool, spread: dict,
+          upsample: int = BP_UPSAMPLE):
     """The tiling of focusing ``raw`` onto nx x ny (:func:`salkit.focus.tiles.plan_tiling`) within
     the budget, counting the signal as held when it is in memory; and the bytes held."""
     P, N = raw["signal"].shape
     held = float(raw["signal"].nbytes) if getattr(raw["signal"].variable, "_in_memory", True) else 0.0  # lazily opened: not held
     stripmap = str(raw.attrs.get("mode", "spotlight")) == "stripmap" and float(raw.attrs.get("real_aperture", 0)) > 0
     tiling = plan_tiling(P, N, nx, ny, alg, memory_budget(memory_limit, held), raw=raw.attrs.get("salkit_kind") == "raw",
-                         stripmap=stripmap, hold_image=hold_image, **spread)
+                         stripmap=stripmap, hold_image=hold_image, upsample=upsample, **spread)
     return tiling, held
 
 
@@ -314,7 +337,7 @@ def image_fits(raw: xr.Dataset, processing: Optional[Processing] = None, *, grid
         return True  # the default grid, 256 x 256
     alg = algorithm or (proc.algorithm if proc is not None else "bp")
     try:
-        _plan(raw, alg, g.nx, g.ny, memory_limit, True, _spread(client))
+        _plan(raw, alg, g.nx, g.ny, memory_limit, True, _spread(client), range_upsample(proc))
     except ResourceError:
         return False
     return True
@@ -389,8 +412,7 @@ def form_image(ph: PhaseHistory, processing: Processing, grid: Grid, *, algorith
     alg = algorithm or processing.algorithm
     acc = accuracy or processing.accuracy
     check_choice("processing.accuracy", acc, ACCURACY)
-    upsample = (processing.range_upsample if acc == "standard"
-                else max(processing.range_upsample, HIGH_ACCURACY_UPSAMPLE))
+    upsample = range_upsample(processing, acc)
     win = Window(window_name or processing.window, processing.taylor_nbar, processing.taylor_sll)
     ig = ImageGrid.of(ph, grid)
     if sink is not None or client is not None or (tiling is not None and tiling.tiled):
@@ -469,7 +491,8 @@ def run_memory_plan(scenario: Scenario, limit: float | str | None = None):
     P, N = signal_shape(scenario)
     g, p = scenario.processing.grid, scenario.processing
     stripmap = scenario.platform.mode == "stripmap" and scenario.platform.real_aperture > 0
-    return plan_tiling(P, N, g.nx, g.ny, p.algorithm, budget - 8.0 * P * N, raw=True, stripmap=stripmap)
+    return plan_tiling(P, N, g.nx, g.ny, p.algorithm, budget - 8.0 * P * N, raw=True, stripmap=stripmap,
+                       upsample=range_upsample(p))
 
 
 def _focus_downlooking(raw: xr.Dataset, processing=None, *, scenario=None, progress=None, **options) -> xr.Dataset:
