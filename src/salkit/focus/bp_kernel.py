@@ -32,6 +32,20 @@ WORKERS = FFT_WORKERS
 
 
 
+@njit(cache=True, inline="always", fastmath=True, error_model="numpy", boundscheck=False)
+def _pixel(j, x, dR, w, scale, cyc_per_m, idx, frs, ss, cs):
+    """Pass 1's outputs for pixel j: the profile offset and fraction of position ``x`` (bins), and
+    the weighted sin/cos of its phase, the cycles dR * cyc_per_m reduced to [-0.5, 0.5] in float64
+    (so that it vectorises) before the float32 polynomial."""
+    i0 = np.int32(x)
+    idx[j] = np.uint32(i0) * scale
+    frs[j] = np.float32(x - i0)
+    cyc = dR * cyc_per_m
+    s, c = sincos_cycles(np.float32(cyc - np.rint(cyc)))
+    ss[j] = s * w
+    cs[j] = c * w
+
+
 @njit(cache=True, fastmath=True, error_model="numpy", boundscheck=False)
 def _bp_row(pk, r0, inv_dr, hi, A, B, C, refp, rg, cyc_per_m, w, out_re, out_im, idx, frs, ss, cs, mode, cf, inside):
     """One pulse into one range line, in two passes so that both vectorise.
@@ -59,44 +73,20 @@ def _bp_row(pk, r0, inv_dr, hi, A, B, C, refp, rg, cyc_per_m, w, out_re, out_im,
             dR += (C + q - dR * (R + refp)) * h
             x = (dR - r0) * inv_dr
             valid = np.float32((x >= 0.0) & (x <= hi))
-            x = min(max(x, 0.0), hi)
-            i0 = np.int32(x)
-            idx[j] = np.uint32(i0) * scale
-            frs[j] = np.float32(x - i0)
-            cyc = dR * cyc_per_m
-            y = np.float32(cyc - np.rint(cyc))  # in [-0.5, 0.5], reduced in float64 (vectorises)
-            s, c = sincos_cycles(y)
-            ss[j] = s * valid * w
-            cs[j] = c * valid * w
+            _pixel(j, min(max(x, 0.0), hi), dR, valid * w, scale, cyc_per_m, idx, frs, ss, cs)
     elif inside:  # the whole line inside the profile: no clamp, no mask
         r0i = r0 * inv_dr
         for j in range(ny):
             g = rg[j]
             dR = math.sqrt(A + g * (B + g)) - refp
-            x = dR * inv_dr - r0i
-            i0 = np.int32(x)
-            idx[j] = np.uint32(i0) * scale
-            frs[j] = np.float32(x - i0)
-            cyc = dR * cyc_per_m
-            y = np.float32(cyc - np.rint(cyc))
-            s, c = sincos_cycles(y)
-            ss[j] = s * w
-            cs[j] = c * w
+            _pixel(j, dR * inv_dr - r0i, dR, w, scale, cyc_per_m, idx, frs, ss, cs)
     else:
         for j in range(ny):
             g = rg[j]
             dR = math.sqrt(A + g * (B + g)) - refp
             x = (dR - r0) * inv_dr
             valid = np.float32((x >= 0.0) & (x <= hi))
-            x = min(max(x, 0.0), hi)
-            i0 = np.int32(x)
-            idx[j] = np.uint32(i0) * scale
-            frs[j] = np.float32(x - i0)
-            cyc = dR * cyc_per_m
-            y = np.float32(cyc - np.rint(cyc))
-            s, c = sincos_cycles(y)
-            ss[j] = s * valid * w
-            cs[j] = c * valid * w
+            _pixel(j, min(max(x, 0.0), hi), dR, valid * w, scale, cyc_per_m, idx, frs, ss, cs)
     n8 = ny - ny % WIDTH
     if mode == 0:  # linear: the packed forward difference
         for j in range(0, n8, WIDTH):

@@ -203,6 +203,13 @@ _T_NODES, _T_WEIGHTS = np.polynomial.legendre.leggauss(24)
 _T_NODES, _T_WEIGHTS = 0.5 * (_T_NODES + 1.0), 0.5 * _T_WEIGHTS
 
 
+def _tap_phases(nu, t) -> np.ndarray:
+    """exp(j 2 pi nu (k - t)) for the four taps k, fractions t and frequencies nu: complex (4, nt, nnu)."""
+    nu = np.asarray(nu, np.float64).ravel()
+    t = np.asarray(t, np.float64).ravel()
+    return np.exp(2j * np.pi * nu[None, None, :] * (TAP_OFFSETS[:, None, None] - t[None, :, None]))
+
+
 def taps4_response(coefficients: np.ndarray, nu: np.ndarray, t: np.ndarray) -> np.ndarray:
     """Response of a four-tap kernel to exp(j 2 pi nu x) read at fraction ``t`` past a bin.
 
@@ -227,10 +234,8 @@ def taps4_response(coefficients: np.ndarray, nu: np.ndarray, t: np.ndarray) -> n
     [[1.0, 1.0]]
     """
     t = np.asarray(t, np.float64).ravel()
-    nu = np.asarray(nu, np.float64).ravel()
     w = np.asarray(coefficients, np.float64) @ np.vander(t, 4, increasing=True).T  # (4, nt)
-    ph = np.exp(2j * np.pi * nu[None, None, :] * (TAP_OFFSETS[:, None, None] - t[None, :, None]))
-    return np.einsum("kt,ktn->tn", w, ph)
+    return np.einsum("kt,ktn->tn", w, _tap_phases(nu, t))
 
 
 def taps4_gain(coefficients: np.ndarray, m: np.ndarray, nfft: int) -> np.ndarray:
@@ -291,7 +296,7 @@ def fitted_coefficients(M: int, nfft: int) -> np.ndarray:
     half = 0.5 * M / nfft
     nu = np.linspace(-half, half, 129)
     t = (np.arange(64) + 0.5) / 64.0
-    ph = np.exp(2j * np.pi * nu[None, None, :] * (TAP_OFFSETS[:, None, None] - t[None, :, None]))  # (k, t, nu)
+    ph = _tap_phases(nu, t)  # (k, t, nu)
     powers = np.vander(t, 4, increasing=True)  # (t, d)
     cols = (ph[:, :, None, :] * powers[None, :, :, None]).transpose(1, 3, 0, 2).reshape(t.size * nu.size, 16)
     a = np.vstack([cols.real, cols.imag])
@@ -302,6 +307,8 @@ def fitted_coefficients(M: int, nfft: int) -> np.ndarray:
 
 
 def _fitted_gain(m: np.ndarray, nfft: int) -> np.ndarray:
+    """The fitted kernel's mean response; ``m`` is all the profile's frequency offsets (as
+    :func:`range_profiles` passes them), so its size is the band the kernel is fitted to."""
     return taps4_gain(fitted_coefficients(int(np.size(m)), int(nfft)), m, nfft)
 
 

@@ -44,6 +44,16 @@ def _store(builder, v, base, j):
     builder.store(v, p, align=4)
 
 
+def _gather_rows(builder, base, offsets, vty):
+    """One short vector load a pixel: ``vty`` at ``base + offsets[lane]`` for the eight lanes of the
+    <8 x i32> ``offsets`` (each pixel's bins are adjacent, so a gather is eight plain loads)."""
+    rows = []
+    for lane in range(8):
+        off = builder.zext(builder.extract_element(offsets, ir.Constant(_I32, lane)), _I64)
+        rows.append(_load(builder, base, off, vty))
+    return rows
+
+
 def _mask(*ix):
     return ir.Constant(ir.VectorType(_I32, len(ix)), list(ix))
 
@@ -124,11 +134,7 @@ def linear8(typingctx, pk, idx, frs, ss, cs, out_re, out_im, j):
     def codegen(context, builder, signature, args):
         pkp, ip, fp, sp, cp, rp, mp = (_data(context, builder, signature.args[k], args[k]) for k in range(7))
         jj = args[7]
-        iv = _load(builder, ip, jj, _V8I)
-        recs = []
-        for lane in range(8):
-            off = builder.zext(builder.extract_element(iv, ir.Constant(_I32, lane)), _I64)
-            recs.append(_load(builder, pkp, off, _V4F))
+        recs = _gather_rows(builder, pkp, _load(builder, ip, jj, _V8I), _V4F)
         # two records a vector, then (re re re re im im im im) and (dre .. dim ..) of four pixels
         pairs = [builder.shuffle_vector(recs[2 * q], recs[2 * q + 1], _mask(*range(8))) for q in range(4)]
         lo = [builder.shuffle_vector(pairs[2 * h], pairs[2 * h + 1], _mask(0, 4, 8, 12, 1, 5, 9, 13)) for h in range(2)]
@@ -177,11 +183,7 @@ def taps4x8(typingctx, pc, idx, frs, ss, cs, out_re, out_im, j, cf):
         pcp, ip, fp, sp, cp, rp, mp, cfp = (_data(context, builder, signature.args[k], args[k])
                                             for k in (0, 1, 2, 3, 4, 5, 6, 8))
         jj = args[7]
-        iv = _load(builder, ip, jj, _V8I)
-        rows = []
-        for lane in range(8):
-            off = builder.zext(builder.extract_element(iv, ir.Constant(_I32, lane)), _I64)
-            rows.append(_load(builder, pcp, off, _V8F))
+        rows = _gather_rows(builder, pcp, _load(builder, ip, jj, _V8I), _V8F)
         cols = transpose8(builder, rows)  # re, im of tap -1, then 0, 1, 2
         t = _load(builder, fp, jj, _V8F)
         vr = vi = None
