@@ -1,20 +1,25 @@
 """Backprojection: the image is the sum over pulses of the per-pulse contributions, and a point
-focuses at the peak value its normalisation promises, at 200 km where float32 ranges fail."""
+focuses at the peak value its normalisation promises, at 200 km where float32 ranges fail; the
+first pass's fast path gives every pixel its exact float64 offset and phase (X band to 560 km at
+1.55 um), refuses lines it cannot bound, and its images are the exact path's."""
 import numpy as np
+import pytest
 
 from salkit import simulate
 from salkit.focus import phase_history
-from salkit.focus.bp_kernel import backproject, pulse_contributions
+from salkit.focus.bp_kernel import (SEGMENT, _anchors, _steps, backproject, pulse_contributions, segment_fits,
+                                    segment_plan)
+from salkit.geometry.ranges import range_offsets
 from salkit.geometry.collection import grid_axes, plane_from
 from salkit.params import parse_scenario
 
 from ..conftest import GEO, SPOT, merge
 
 
-def _setup(base):
+def _setup(base, nx=16, ny=12):
     sc = parse_scenario(merge(base, scene={"points": [{"x": 0.0, "y": 0.0}]}))
     ph = phase_history(simulate(sc))
-    g = sc.processing.grid.model_copy(update={"nx": 16, "ny": 12})
+    g = sc.processing.grid.model_copy(update={"nx": nx, "ny": ny})
     plane = plane_from(ph.track, ph.center_position, g.plane)
     az, rg = grid_axes(g)
     return ph, plane, az, rg
@@ -39,3 +44,76 @@ def test_point_at_200_km_peaks_at_pulses_times_samples():
     i, j = np.unravel_index(np.argmax(np.abs(img)), img.shape)
     assert (az[i], rg[j]) == (0.0, 0.0)
     assert abs(img[i, j]) / (P * M) > 0.95  # unit point, coherent sum: the phase is right everywhere
+
+
+def _line(cyc_per_m, height, ground, dg, ny=64, seed=0):
+    """A range line of ``ny`` pixels ``dg`` apart, ``ground`` m out and the antenna ``height`` up,
+    in the kernel's terms (A, B, C, reference range), and each pixel's exact float64 differential
+    range (the exact path's formula, corrected at long range)."""
+    rng = np.random.default_rng(seed)
+    p = np.array([rng.uniform(-50, 50), -ground, height])
+    o = np.array([rng.uniform(-5, 5), rng.uniform(-5, 5), 0.0])
+    rdir = np.array([0.0, 1.0, 0.0])
+    rg = (np.arange(ny) - ny / 2) * dg
+    ref = np.linalg.norm(p) + rng.uniform(-3, 3)
+    D = range_offsets(p[None], np.array([ref]))[0]
+    A = float((o - p) @ (o - p))
+    B = float(2 * (o - p) @ rdir)
+    C = float(D + o @ (o - 2 * p))
+    q = rg * (B + rg)
+    R = np.sqrt(A + q)
+    dR = R - ref
+    dR += (C + q - dR * (R + ref)) * (0.5 / ref)
+    return A, B, C, ref, rg, dR
+
+
+@pytest.mark.parametrize("wavelength, height, ground, dg", [
+    (0.031, 7300.0, 3000.0, 0.2),     # X band, the wide-angle benchmark's geometry
+    (1.55e-6, 5000.0, 2000.0, 0.01),  # airborne SAL
+    (1.55e-6, 560e3, 100e3, 0.05),    # 560 km at 1.55 um: the long-range correction in the anchors
+])
+def test_fast_path_gives_each_pixel_its_exact_offset_and_phase(wavelength, height, ground, dg):
+    cyc = 2.0 / wavelength
+    A, B, C, ref, rg, dR = _line(cyc, height, ground, dg)
+    r0, inv_dr = -50.0, 1.0 / 0.04
+    ok, step, trunc, quad = segment_plan(rg, cyc)
+    assert ok and step == pytest.approx(dg) and segment_fits(A, B, np.sqrt(A + rg * (B + rg)).min(), trunc, quad)
+    nseg = rg.size // SEGMENT
+    anc, anci = np.empty((6, nseg), np.float32), np.empty(nseg, np.int32)
+    idx, frs, ss, cs = (np.empty(rg.size, t) for t in (np.uint32, np.float32, np.float32, np.float32))
+    corr = ref * cyc * 2.2e-16 * 6.3 > 1e-4
+    _anchors(r0, inv_dr, A, B, C, ref, rg[0], step, cyc, corr, anc, anci)
+    _steps(anc, anci, np.float32(inv_dr / cyc), np.float32(1.0), idx, frs, ss, cs)
+    x = (dR - r0) * inv_dr
+    np.testing.assert_allclose(idx / 2 + frs, x, rtol=0, atol=1e-4)  # bins
+    # the phase, against float64 reduced in cycles, within the float32 sin/cos polynomial's error
+    want = np.exp(2j * np.pi * ((dR * cyc) % 1.0))
+    err = np.abs(cs + 1j * ss - want)
+    assert err.max() < 2e-5
+
+
+def test_fast_path_refuses_what_it_cannot_bound():
+    cyc = 2.0 / 1.55e-6
+    rg = np.arange(64) * 0.01
+    assert not segment_plan(rg * (1 + 1e-6 * np.arange(64)), cyc)[0]  # not uniform
+    assert not segment_plan(rg[:SEGMENT - 1], cyc)[0]  # shorter than a segment
+    ok, _, trunc, quad = segment_plan(np.arange(64) * 0.05, cyc)
+    assert ok and segment_fits(1e6 ** 2, 0.0, 1e6, trunc, quad)  # 1000 km broadside: a tiny bound
+    assert not segment_fits(20.0 ** 2, 0.0, 20.0, trunc, quad)  # 20 m: the Taylor step's truncation is not
+    # a line pointing nearly at the antenna 5 km away (3.7 cm off it) is nearly straight: it fits
+    assert segment_fits(5e3 ** 2 + 0.037 ** 2, -2 * 5e3, 5e3 - 2.0, trunc, quad)
+    # 0.5 m pixels at 1.55 um, 1 km broadside: the step's quadratic part is too large for float32
+    assert not segment_fits(1e3 ** 2, 0.0, 1e3, *segment_plan(np.arange(64) * 0.5, cyc)[2:])
+
+
+@pytest.mark.parametrize("base", [SPOT, GEO])
+def test_fast_path_image_is_the_exact_paths(base):
+    ph, plane, az, rg = _setup(base, nx=8, ny=48)
+    P, M = ph.data.shape
+    args = (ph.data, ph.freq, ph.positions, ph.reference_range, plane.points(az, np.zeros_like(az)), plane.range, rg,
+            np.ones((az.size, P), np.float32), np.ones(M))
+    for interpolation in ("linear", "fitted"):
+        fast = backproject(*args, interpolation=interpolation)
+        exact = backproject(*args, interpolation=interpolation, segments=False)
+        assert np.abs(fast - exact).max() < 3e-5 * np.abs(exact).max()
+        assert not np.array_equal(fast, exact)  # the fast path was taken

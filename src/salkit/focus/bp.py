@@ -162,9 +162,9 @@ def backprojection_former(interpolation: str):
 
 def bp_memory(sizes: Sizes) -> float:
     """Bytes backprojection adds: one kernel call's upsampled range profiles (bounded by the call's
-    pulses, :func:`salkit.focus.bp_kernel.profile_block`) at the sizes' upsampling, 24 bytes a bin:
-    the complex64 profile (transformed in place) and the kernel's layout of it (16 bytes a bin packed
-    for linear and nearest, 8 padded for four taps).
+    pulses, :func:`salkit.focus.bp_kernel.profile_block`) at the sizes' upsampling, 16 bytes a bin:
+    the complex64 profile (transformed in place; linear and nearest read it as it is) and the
+    four-tap kernels' padded copy of it.
 
     Parameters
     ----------
@@ -175,7 +175,7 @@ def bp_memory(sizes: Sizes) -> float:
     float
     """
     up = max(int(sizes.upsample), 1)
-    return profile_block(sizes.samples, up) * 24.0 * sfft.next_fast_len(int(sizes.samples * up))
+    return profile_block(sizes.samples, up) * 16.0 * sfft.next_fast_len(int(sizes.samples * up))
 
 
 _form_linear, _blocks_linear = backprojection_former("linear")

@@ -107,17 +107,17 @@ def _rotate_accumulate(builder, vr, vi, sp, cp, rp, mp, j):
 
 
 @intrinsic
-def linear8(typingctx, pk, idx, frs, ss, cs, out_re, out_im, j):
+def linear8(typingctx, pc, idx, frs, ss, cs, out_re, out_im, j):
     """Pass 2 of linear interpolation for pixels ``j .. j+7``.
 
     Called from numba code (the arguments are numba values; ``typingctx`` is numba's).
 
     Parameters
     ----------
-    pk : float32[::1]
-        Profile records (re, im, d_re, d_im) a bin, flattened.
+    pc : float32[::1]
+        Profile as interleaved (re, im) floats (a complex64 profile viewed as float32).
     idx : uint32[::1]
-        Offset of each pixel's record in ``pk`` (4 x bin).
+        Offset in ``pc`` of each pixel's bin (2 x bin); the next bin is read too.
     frs, ss, cs : float32[::1]
         Fraction between bins, weighted sine and cosine of the pixel's phase.
     out_re, out_im : float32[::1]
@@ -127,26 +127,26 @@ def linear8(typingctx, pk, idx, frs, ss, cs, out_re, out_im, j):
     Returns
     -------
     none
-        ``out[j + l] += (re + f d_re + 1j (im + f d_im)) (c + 1j s)``, l = 0..7.
+        ``out[j + l] += (z_b + f (z_b+1 - z_b)) (c + 1j s)``, l = 0..7.
     """
-    sig = types.void(pk, idx, frs, ss, cs, out_re, out_im, j)
+    sig = types.void(pc, idx, frs, ss, cs, out_re, out_im, j)
 
     def codegen(context, builder, signature, args):
-        pkp, ip, fp, sp, cp, rp, mp = (_data(context, builder, signature.args[k], args[k]) for k in range(7))
+        pcp, ip, fp, sp, cp, rp, mp = (_data(context, builder, signature.args[k], args[k]) for k in range(7))
         jj = args[7]
-        recs = _gather_rows(builder, pkp, _load(builder, ip, jj, _V8I), _V4F)
-        # two records a vector, then (re re re re im im im im) and (dre .. dim ..) of four pixels
+        recs = _gather_rows(builder, pcp, _load(builder, ip, jj, _V8I), _V4F)  # re0 im0 re1 im1
+        # two pixels a vector, then (re0 x4, im0 x4) and (re1 x4, im1 x4) of four pixels
         pairs = [builder.shuffle_vector(recs[2 * q], recs[2 * q + 1], _mask(*range(8))) for q in range(4)]
         lo = [builder.shuffle_vector(pairs[2 * h], pairs[2 * h + 1], _mask(0, 4, 8, 12, 1, 5, 9, 13)) for h in range(2)]
         hi = [builder.shuffle_vector(pairs[2 * h], pairs[2 * h + 1], _mask(2, 6, 10, 14, 3, 7, 11, 15)) for h in range(2)]
         first, second = _mask(0, 1, 2, 3, 8, 9, 10, 11), _mask(4, 5, 6, 7, 12, 13, 14, 15)
-        re = builder.shuffle_vector(lo[0], lo[1], first)
-        im = builder.shuffle_vector(lo[0], lo[1], second)
-        dre = builder.shuffle_vector(hi[0], hi[1], first)
-        dim = builder.shuffle_vector(hi[0], hi[1], second)
+        re0 = builder.shuffle_vector(lo[0], lo[1], first)
+        im0 = builder.shuffle_vector(lo[0], lo[1], second)
+        re1 = builder.shuffle_vector(hi[0], hi[1], first)
+        im1 = builder.shuffle_vector(hi[0], hi[1], second)
         f = _load(builder, fp, jj, _V8F)
-        vr = builder.fadd(re, builder.fmul(f, dre))
-        vi = builder.fadd(im, builder.fmul(f, dim))
+        vr = builder.fadd(re0, builder.fmul(f, builder.fsub(re1, re0)))
+        vi = builder.fadd(im0, builder.fmul(f, builder.fsub(im1, im0)))
         _rotate_accumulate(builder, vr, vi, sp, cp, rp, mp, jj)
         return context.get_dummy_value()
 

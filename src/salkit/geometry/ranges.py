@@ -8,19 +8,31 @@ Here the difference is formed from small quantities only:
     |x - p| - R_ref = (D + x.(x - 2 p)) / (|x - p| + R_ref),   D = |p|^2 - R_ref^2,
 
 with x the pixel relative to the scene centre (small), p the antenna (large) and D computed
-exactly (rational arithmetic) once per pulse. The denominator needs no precision.
+exactly (error-free products and one rounding of their sum) once per pulse. The denominator needs no precision.
 """
 from __future__ import annotations
 
 import math
-from fractions import Fraction
-
 import numpy as np
 from numba import njit
 
 
+def _exact_square(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """a^2 as p + e exactly (Dekker's product on Veltkamp's split halves): p the rounded square,
+    e its rounding error."""
+    c = 134217729.0 * a  # 2^27 + 1
+    hi = c - (c - a)
+    lo = a - hi
+    p = a * a
+    return p, ((hi * hi - p) + 2.0 * hi * lo) + lo * lo
+
+
 def range_offsets(positions: np.ndarray, reference_range: np.ndarray) -> np.ndarray:
     """D = |p|^2 - R_ref^2 per pulse, exact to the last bit of its float64 result, m^2.
+
+    Each square is split exactly into its rounded value and its rounding error (Dekker), and the
+    eight terms summed with one rounding (:func:`math.fsum`): the float64 nearest to the exact
+    rational value.
 
     Parameters
     ----------
@@ -40,12 +52,10 @@ def range_offsets(positions: np.ndarray, reference_range: np.ndarray) -> np.ndar
     """
     pos = np.asarray(positions, np.float64)
     ref = np.asarray(reference_range, np.float64)
-    out = np.empty(ref.shape[0])
-    for i in range(ref.shape[0]):
-        x, y, z = (Fraction(float(v)) for v in pos[i])
-        r = Fraction(float(ref[i]))
-        out[i] = float(x * x + y * y + z * z - r * r)
-    return out
+    terms = [t for v in (pos[:, 0], pos[:, 1], pos[:, 2]) for t in _exact_square(v)]
+    terms += [-t for t in _exact_square(ref)]
+    cols = np.stack(terms, axis=1).tolist()
+    return np.array([math.fsum(row) for row in cols], np.float64).reshape(ref.shape[0])
 
 
 @njit(cache=True, inline="always", error_model="numpy")
