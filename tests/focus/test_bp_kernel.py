@@ -82,7 +82,8 @@ def test_fast_path_gives_each_pixel_its_exact_offset_and_phase(wavelength, heigh
     anc, anci = np.empty((6, nseg), np.float32), np.empty(nseg, np.int32)
     idx, frs, ss, cs = (np.empty(rg.size, t) for t in (np.uint32, np.float32, np.float32, np.float32))
     corr = ref * cyc * 2.2e-16 * 6.3 > 1e-4
-    _anchors(r0, inv_dr, A, B, C, ref, rg[0], step, cyc, corr, anc, anci)
+    gcs = rg[0] + (np.arange(nseg) * SEGMENT + 0.5 * (SEGMENT - 1)) * step
+    _anchors(r0, inv_dr, A, B, C, ref, gcs, step, cyc, corr, anc, anci)
     _steps(anc, anci, np.float32(inv_dr / cyc), np.float32(1.0), idx, frs, ss, cs)
     x = (dR - r0) * inv_dr
     np.testing.assert_allclose(idx / 2 + frs, x, rtol=0, atol=1e-4)  # bins

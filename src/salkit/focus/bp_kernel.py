@@ -68,8 +68,8 @@ SEGMENT_TOLERANCE = 3.0e-6
 
 
 @njit(cache=True, fastmath=True, error_model="numpy", boundscheck=False)
-def _anchors(r0, inv_dr, A, B, C, refp, g0, dg, cyc_per_m, corr, anc, anci):
-    """The fast path's anchors: each segment's centre g in float64 as the exact path computes a
+def _anchors(r0, inv_dr, A, B, C, refp, gcs, dg, cyc_per_m, corr, anc, anci):
+    """The fast path's anchors: each segment's centre g (``gcs``) in float64 as the exact path computes a
     pixel (range, the long-range correction when ``corr``, profile offset, phase in cycles), and
     there the phase's Taylor coefficients in cycles a pixel, E1, E2, E3 (from R', R''/2, R'''/6).
 
@@ -81,13 +81,13 @@ def _anchors(r0, inv_dr, A, B, C, refp, g0, dg, cyc_per_m, corr, anc, anci):
     hb = 0.5 * B
     hc2 = 0.5 * max(A - hb * hb, 0.0)  # half the perpendicular distance squared: 1 - R'^2 = c^2 / R^2
     for k in range(anci.shape[0]):
-        g = g0 + (k * SEGMENT + 0.5 * (SEGMENT - 1)) * dg
+        g = gcs[k]  # read, not computed from k: an int64 to float64 conversion has no packed instruction on AVX2
         q = g * (B + g)
         R = math.sqrt(A + q)
         dR = R - refp
         dR += (C + q - dR * (R + refp)) * h
         x = (dR - r0) * inv_dr
-        xi = math.floor(x)
+        xi = np.floor(x)  # a float (math.floor's int64 would leave the loop scalar on AVX2)
         iR = 1.0 / R
         r1 = (g + hb) * iR
         r2 = hc2 * iR * iR * iR
@@ -126,9 +126,13 @@ def _steps(anc, anci, fq, w, idx, frs, ss, cs):
             idx[j] = np.uint32(xb + np.int32(fl)) << np.uint32(1)
             frs[j] = xl - fl
             cy = ca + t * (e1r + hi)
-            s, c = sincos_cycles(cy - np.rint(cy))
-            ss[j] = s * w
-            cs[j] = c * w
+            ss[j] = cy - np.rint(cy)  # the phase in cycles, for the loop below
+    # the sin and cos in a loop of their own: with the steps' constants too, sixteen AVX2 registers
+    # spill (10 % of the kernel's time there)
+    for j in range(anci.shape[0] * SEGMENT):
+        s, c = sincos_cycles(ss[j])
+        ss[j] = s * w
+        cs[j] = c * w
 
 
 @njit(cache=True, inline="always", fastmath=True, error_model="numpy", boundscheck=False)
@@ -180,7 +184,7 @@ def _pass2(pk, idx, frs, ss, cs, out_re, out_im, mode, cf, j_lo, j_hi):
 
 @njit(cache=True, fastmath=True, error_model="numpy", boundscheck=False)
 def _bp_row(pk, r0, inv_dr, hi, A, B, C, refp, rg, cyc_per_m, w, out_re, out_im, idx, frs, ss, cs, mode, cf, inside,
-            fast, dg, anc, anci):
+            fast, gcs, dg, anc, anci):
     """One pulse into one range line, in two passes so that both vectorise.
 
     Pass 1 (SIMD): the pixel's profile offset and fraction, and the sin and cos of its phase
@@ -200,7 +204,7 @@ def _bp_row(pk, r0, inv_dr, hi, A, B, C, refp, rg, cyc_per_m, w, out_re, out_im,
     corr = refp * cyc_per_m * 2.2e-16 * 6.3 > 1e-4
     j0 = 0
     if fast:
-        _anchors(r0, inv_dr, A, B, C, refp, rg[0], dg, cyc_per_m, corr, anc, anci)
+        _anchors(r0, inv_dr, A, B, C, refp, gcs, dg, cyc_per_m, corr, anc, anci)
         _steps(anc, anci, np.float32(inv_dr / cyc_per_m), w, idx, frs, ss, cs)
         j0 = anci.shape[0] * SEGMENT
     if corr:
@@ -357,6 +361,9 @@ def bp_kernel(profiles, n_bins, r0, inv_dr, pos, ref, D, row_origin, rdir, rg, c
     segmented, dg, trunc, quad = segment_plan(rg, cyc_per_m)
     segmented &= segments
     nseg = ny // SEGMENT
+    gcs = np.empty(nseg)  # the segments' centres
+    for k in range(nseg):
+        gcs[k] = rg[0] + (k * SEGMENT + 0.5 * (SEGMENT - 1)) * dg
     for t in prange(n_tiles):
         anc = np.empty((6, nseg), np.float32)
         anci = np.empty(nseg, np.int32)
@@ -388,7 +395,7 @@ def bp_kernel(profiles, n_bins, r0, inv_dr, pos, ref, D, row_origin, rdir, rg, c
                 inside = (x_lo >= 1.0) & (x_hi <= hi - 1.0)
                 fast = segmented and inside and segment_fits(A, B, R_min, trunc, quad)
                 _bp_row(profiles[p], r0, inv_dr, hi, A, B, C, ref[p], rg, cyc_per_m, np.float32(w),
-                        img_re[i], img_im[i], idx, frs, ss, cs, mode, cf, inside, fast, dg, anc, anci)
+                        img_re[i], img_im[i], idx, frs, ss, cs, mode, cf, inside, fast, gcs, dg, anc, anci)
 
 
 def kernel_profiles(prof: np.ndarray, interpolation: str, n_samples: int) -> tuple[np.ndarray, np.ndarray]:
