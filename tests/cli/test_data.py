@@ -93,3 +93,18 @@ def test_focus_an_image_larger_than_its_budget_into_a_chunked_file(tmp_path, sce
     assert salkit("verify", tmp_path / "big").returncode == 0
     r = salkit("focus", raw, "--out", tmp_path / "af", *grid, "--memory-limit", "4MiB", "--autofocus", "pga")
     assert r.returncode == 2 and "--autofocus" in r.stderr and not (tmp_path / "af").exists()
+
+
+def test_focus_range_upsample(tmp_path, scen):
+    """--range-upsample sets backprojection's profile upsampling (the image records it); outside
+    2..64 or not an integer: exit 2 naming the option, no folder."""
+    from salkit.io import open_dataset
+    raw = tmp_path / "raw.nc"
+    salkit("simulate", scen, "--out", raw)
+    r = salkit("focus", raw, "--out", tmp_path / "f6", "--algorithm", "bp_fitted", "--range-upsample", "6")
+    assert r.returncode == 0, r.stderr
+    assert open_dataset(tmp_path / "f6" / "image.nc").attrs["range_upsample"] == 6
+    for bad in ("1", "100", "six"):
+        r = salkit("focus", raw, "--out", tmp_path / "no", "--range-upsample", bad)
+        assert r.returncode == 2 and "--range-upsample" in r.stderr and "Traceback" not in r.stderr, r.stderr
+        assert not (tmp_path / "no").exists()

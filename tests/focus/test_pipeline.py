@@ -118,3 +118,22 @@ def test_odd_sizes_and_offset_grid_centres(alg, grid):
                               scene={"points": [{"x": 0.07, "y": -0.03, "phase": 1.0}]}))
     m = measure(focus(simulate(sc), sc.processing), reflectivity_phase=1.0)
     check(m)
+
+
+def test_upsample_overrides_the_processing_and_is_checked():
+    """focus(upsample=) sets backprojection's range-profile upsampling (recorded on the image, the
+    point still to theory with bp_fitted at 6x), high accuracy still takes at least 32, and a value
+    outside 2..64 or not an integer is refused naming the field, before any work."""
+    from salkit.errors import ScenarioError
+    from salkit.focus.pipeline import check_upsample, range_upsample
+    sc = parse_scenario(merge(SPOT, scene={"points": [{"x": 0.07, "y": -0.03, "phase": 1.0}]}))
+    raw = simulate(sc)
+    img = focus(raw, sc.processing, algorithm="bp_fitted", upsample=6)
+    assert img.attrs["range_upsample"] == 6
+    check(measure(img, reflectivity_phase=1.0))
+    assert focus(raw, sc.processing, upsample=8, accuracy="high").attrs["range_upsample"] == 32
+    assert range_upsample(sc.processing, None, 6) == 6 and range_upsample(sc.processing) == sc.processing.range_upsample
+    for bad in (1, 65, 6.5, True):
+        with pytest.raises(ScenarioError, match="upsample.*integer from 2 to 64"):
+            focus(raw, sc.processing, upsample=bad)
+    assert check_upsample(None) is None and check_upsample(4.0) == 4

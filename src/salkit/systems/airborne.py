@@ -333,7 +333,7 @@ def focus_file(raw: xr.Dataset, processing: Processing | None = None, progress: 
         drawn from every k-th pixel; it cannot then be autofocused.
     **options
         ``algorithm``, ``window_name``, ``grid``, ``plane``, ``accuracy``, ``memory_limit``,
-        ``client`` for :func:`salkit.focus.focus`.
+        ``client``, ``upsample`` for :func:`salkit.focus.focus`.
 
     Returns
     -------
@@ -347,7 +347,8 @@ def focus_file(raw: xr.Dataset, processing: Processing | None = None, progress: 
     if image_file is not None and not image_fits(raw, processing, grid=options.get("grid"),
                                                  algorithm=options.get("algorithm"),
                                                  memory_limit=options.get("memory_limit"),
-                                                 client=options.get("client")):
+                                                 client=options.get("client"), accuracy=options.get("accuracy"),
+                                                 upsample=options.get("upsample")):
         if autofocus not in (None, "none"):
             raise ScenarioError("--autofocus", autofocus, "needs the whole image in memory; this image is larger "
                                 "than the budget and is formed tile by tile into its file (raise --memory-limit)")
