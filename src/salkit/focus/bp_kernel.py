@@ -54,6 +54,7 @@ def _pixel(j, x, dR, w, cyc_per_m, idx, frs, ss, cs):
     ss[j] = s * w
     cs[j] = c * w
 
+
 #: Pixels a segment of the first pass's fast path (one vector of float32 lanes): each pixel's range
 #: is its segment's float64 anchor plus a float32 Taylor step.
 SEGMENT = 16
@@ -138,12 +139,12 @@ def _steps(anc, anci, fq, w, idx, frs, ss, cs):
 @njit(cache=True, inline="always", fastmath=True, error_model="numpy", boundscheck=False)
 def _pass2(pk, idx, frs, ss, cs, out_re, out_im, mode, cf, j_lo, j_hi):
     """Pass 2 for pixels ``j_lo`` .. ``j_hi - 1``: read the profile ``pk`` at each pixel's offset,
-    interpolate (``mode``: :data:`INTERPOLATIONS`' codes; 0 linear on records (re, im, d_re,
-    d_im), 1 nearest, 2 and 3 four taps on the padded interleaved profile with the weights'
-    coefficients ``cf``), rotate and accumulate; eight pixels at a time (:mod:`salkit.focus.simd`),
-    the last few scalar."""
+    interpolate (``mode``: :data:`INTERPOLATIONS`' codes; 0 linear between bins b and b + 1 of
+    the interleaved profile, 1 nearest, 2 and 3 four taps on the padded interleaved profile with
+    the weights' coefficients ``cf``), rotate and accumulate; eight pixels at a time
+    (:mod:`salkit.focus.simd`), the last few scalar."""
     n8 = j_lo + (j_hi - j_lo) // WIDTH * WIDTH
-    if mode == 0:  # linear: the packed forward difference
+    if mode == 0:  # linear: bins b and b + 1
         for j in range(j_lo, n8, WIDTH):
             linear8(pk, idx, frs, ss, cs, out_re, out_im, j)
         for j in range(n8, j_hi):
