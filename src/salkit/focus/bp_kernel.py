@@ -55,6 +55,17 @@ def _pixel(j, x, dR, w, cyc_per_m, idx, frs, ss, cs):
     cs[j] = c * w
 
 
+@njit(cache=True, inline="always", fastmath=True, error_model="numpy", boundscheck=False)
+def _differential_range(g, A, B, C, refp, h):
+    """|x - p| and |x - p| - R_ref in float64 at ``g`` along the line |x - p|^2 = A + g (B + g),
+    the difference corrected by the exact R^2 - R_ref^2 = C + g (B + g) times ``h`` (0.5 / R_ref
+    where a range's rounding reaches the phase, else 0: the correction then multiplied away)."""
+    q = g * (B + g)
+    R = math.sqrt(A + q)
+    dR = R - refp
+    return R, dR + (C + q - dR * (R + refp)) * h
+
+
 #: Pixels a segment of the first pass's fast path (one vector of float32 lanes): each pixel's range
 #: is its segment's float64 anchor plus a float32 Taylor step.
 SEGMENT = 16
@@ -83,10 +94,7 @@ def _anchors(r0, inv_dr, A, B, C, refp, gcs, dg, cyc_per_m, corr, anc, anci):
     hc2 = 0.5 * max(A - hb * hb, 0.0)  # half the perpendicular distance squared: 1 - R'^2 = c^2 / R^2
     for k in range(anci.shape[0]):
         g = gcs[k]  # read, not computed from k: an int64 to float64 conversion has no packed instruction on AVX2
-        q = g * (B + g)
-        R = math.sqrt(A + q)
-        dR = R - refp
-        dR += (C + q - dR * (R + refp)) * h
+        R, dR = _differential_range(g, A, B, C, refp, h)
         x = (dR - r0) * inv_dr
         xi = np.floor(x)  # a float (math.floor's int64 would leave the loop scalar on AVX2)
         iR = 1.0 / R
@@ -210,11 +218,7 @@ def _bp_row(pk, r0, inv_dr, hi, A, B, C, refp, rg, cyc_per_m, w, out_re, out_im,
         j0 = anci.shape[0] * SEGMENT
     if corr:
         for j in range(j0, ny):
-            g = rg[j]
-            q = g * (B + g)
-            R = math.sqrt(A + q)
-            dR = R - refp
-            dR += (C + q - dR * (R + refp)) * h
+            _, dR = _differential_range(rg[j], A, B, C, refp, h)
             x = (dR - r0) * inv_dr
             valid = np.float32((x >= 0.0) & (x <= hi))
             _pixel(j, min(max(x, 0.0), hi), dR, valid * w, cyc_per_m, idx, frs, ss, cs)

@@ -78,8 +78,14 @@ def range_upsample(processing: Optional[Processing], accuracy: str | None = None
     return up if acc == "standard" else max(up, HIGH_ACCURACY_UPSAMPLE)
 
 
+def _upsample_bounds() -> tuple[int, int]:
+    """The bounds ``processing.range_upsample`` declares (its field's ge and le)."""
+    meta = Processing.model_fields["range_upsample"].metadata
+    return (next(int(m.ge) for m in meta if hasattr(m, "ge")), next(int(m.le) for m in meta if hasattr(m, "le")))
+
+
 def check_upsample(upsample, name: str = "upsample") -> int | None:
-    """``upsample`` as an int from 2 to 64 (what ``processing.range_upsample`` allows), or None.
+    """``upsample`` as an int within what ``processing.range_upsample`` allows (2 to 64), or None.
 
     Parameters
     ----------
@@ -98,8 +104,9 @@ def check_upsample(upsample, name: str = "upsample") -> int | None:
     """
     if upsample is None:
         return None
-    if isinstance(upsample, bool) or not float(upsample).is_integer() or not 2 <= int(upsample) <= 64:
-        raise ScenarioError(name, upsample, "backprojection's range-profile upsampling: an integer from 2 to 64")
+    lo, hi = _upsample_bounds()
+    if isinstance(upsample, bool) or not float(upsample).is_integer() or not lo <= int(upsample) <= hi:
+        raise ScenarioError(name, upsample, f"backprojection's range-profile upsampling: an integer from {lo} to {hi}")
     return int(upsample)
 
 
