@@ -30,10 +30,13 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 #: (label, former, keyword arguments) of salkit
+#: (bp: the default, 6x profiles and four fitted taps, 8x at accuracy high; "bp linear 16x" the
+#: default until 0.19.0, through the library's linear interpolation)
 SALKIT = ([("ffbp", "ffbp", {}), ("ffbp high", "ffbp", {"accuracy": "high"}), ("bp", "bp", {}),
-           ("bp high (32x)", "bp", {"upsample": 32}), ("bp_cubic", "bp_cubic", {}),
-           ("bp_cubic high (32x)", "bp_cubic", {"upsample": 32})]
-          + [(f"bp_fitted {u}x", "bp_fitted", {"upsample": u}) for u in (4, 6, 8)] + [("bp_fitted", "bp_fitted", {})])
+           ("bp high (8x)", "bp", {"upsample": 8}), ("bp linear 16x", "linear", {"upsample": 16}),
+           ("bp linear 32x", "linear", {"upsample": 32}), ("bp_cubic", "bp_cubic", {}),
+           ("bp_cubic high (32x)", "bp_cubic", {"upsample": 32}), ("bp_fitted 4x", "bp_fitted", {"upsample": 4}),
+           ("bp_fitted", "bp_fitted", {})])
 #: (label, form_image keyword arguments) of FastSAR
 FASTSAR = ([(f"ffbp target {t} dB", {"algorithm": "ffbp", "target_db": float(t)}) for t in (-40, -50, -60)]
            + [(f"bp {i} {u}x", {"algorithm": "bp", "interp": i, "upsample": u})
@@ -58,6 +61,7 @@ def bench_peers(sizes=(1024,), repeat=3, only: str | None = None):
         return {}
     from numba import get_num_threads
     from ffbp_scaling import measure, problem
+    from salkit.focus.bp import backprojection_former
     from salkit.focus.formers import get_former
     from salkit.signals.windows import Window
     out = {"peers_threads_salkit": get_num_threads(), "peers_threads_fastsar": int(os.environ.get("OMP_NUM_THREADS", 0)),
@@ -72,7 +76,7 @@ def bench_peers(sizes=(1024,), repeat=3, only: str | None = None):
         for label, alg, kw in SALKIT:
             if only and not label.startswith(only):
                 continue
-            former = get_former(alg)
+            former = backprojection_former(alg)[0] if alg == "linear" else get_former(alg)
             runs[("salkit", label)] = (lambda former=former, kw=kw: former(ph, ig, Window("none"), **kw).image)
         fmin, df = float(ph.freq[0]), float(ph.freq[1] - ph.freq[0])
         for label, kw in FASTSAR:

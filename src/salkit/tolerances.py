@@ -29,7 +29,15 @@ GRID_SPACING_OF_RESOLUTION = 1.01
 IRW_MEANINGFUL_PSLR_DB = -6.0
 #: |measured fringe period / eq 25 - 1| on a uniform scene (the period is fitted over a finite swath).
 FRINGE_PERIOD_RATIO = 0.01
-#: Default range-profile upsampling of backprojection (linear interpolation, its mean attenuation
-#: pre-compensated): -64 to -69 dB image error against the exact matched filter; 32 gives -75.5 to -78.5 dB
-#: (docs/performance.md, "Accuracy against the exact truth").
+#: Default range-profile upsampling of backprojection's formers that declare none of their own
+#: (``bp_cubic``, ``bp_fitted``; linear interpolation through the library): linear -64 to -69 dB
+#: image error against the exact matched filter, Keys cubic -89 to -95 dB, the fitted taps -110 to
+#: -113.5 dB (docs/performance.md, "Accuracy against the exact truth").
 BP_UPSAMPLE = 16
+#: Upsampling of every backprojection former at ``accuracy: high`` (at least), unless it declares its own.
+HIGH_ACCURACY_UPSAMPLE = 32
+#: The default former ``bp``'s upsampling (its four taps fitted to the profile's band): -87 to -89 dB
+#: at 6x, and at ``accuracy: high`` 8x, -97 to -99 dB, at the speed of 4x (the kernel's time hardly
+#: depends on the upsampling; the profiles' size does, a third of 16x linear's bytes).
+BP_DEFAULT_UPSAMPLE = 6
+BP_DEFAULT_HIGH_UPSAMPLE = 8

@@ -35,9 +35,9 @@ def test_focus_under_a_memory_limit_runs_in_tiles(tmp_path, scen):
     salkit("simulate", scen, "--out", raw)
     r = salkit("focus", raw, "--out", tmp_path / "whole", "--algorithm", "bp")
     assert r.returncode == 0, r.stderr
-    # 4 MiB: under the 4.5 MiB the job needs whole, over the 3.4 MiB of one tile and pulse block (one
-    # kernel call's range profiles, 1.6 MiB, are in every tile's need)
-    r = salkit("focus", raw, "--out", tmp_path / "tiled", "--algorithm", "bp", "--memory-limit", "4MiB")
+    # 3 MiB: under the 3.6 MiB the job needs whole, over the 2.45 MiB of one tile and pulse block (one
+    # kernel call's 6x range profiles, 0.6 MiB, are in every tile's need)
+    r = salkit("focus", raw, "--out", tmp_path / "tiled", "--algorithm", "bp", "--memory-limit", "3MiB")
     assert r.returncode == 0, r.stderr
     assert "note: focusing bp in" in r.stderr and "tiles" in r.stderr
     a, b = open_dataset(tmp_path / "whole" / "image.nc"), open_dataset(tmp_path / "tiled" / "image.nc")
@@ -49,8 +49,8 @@ def test_focus_under_a_memory_limit_runs_in_tiles(tmp_path, scen):
     r = salkit("focus", raw, "--out", tmp_path / "no", "--memory-limit", "lots")
     assert r.returncode == 2 and "--memory-limit" in r.stderr
     # the tiles on a local Dask cluster: each worker reads its pulse blocks from the file; the same image
-    # (7 MiB: two tiles at once with pulse blocks need 6.2 MiB, with all the pulses 8.6 MiB)
-    r = salkit("focus", raw, "--out", tmp_path / "dask", "--algorithm", "bp", "--memory-limit", "7MiB",
+    # (5 MiB: two tiles at once with pulse blocks need 4.2 MiB, with all the pulses 6.7 MiB)
+    r = salkit("focus", raw, "--out", tmp_path / "dask", "--algorithm", "bp", "--memory-limit", "5MiB",
                "--workers", "2")
     assert r.returncode == 0, r.stderr
     c = open_dataset(tmp_path / "dask" / "image.nc")
@@ -74,8 +74,9 @@ def test_focus_an_image_larger_than_its_budget_into_a_chunked_file(tmp_path, sce
     salkit("simulate", scen, "--out", raw)
     grid = ["--nx", "512", "--ny", "512", "--dx", "0.015", "--dy", "0.015", "--algorithm", "bp"]
     assert salkit("focus", raw, "--out", tmp_path / "mem", *grid).returncode == 0
-    # 4 MiB: the 512^2 image is not held (it needs 4.4 MiB), tiles of 128 x 256 written (3.7 MiB)
-    r = salkit("focus", raw, "--out", tmp_path / "big", *grid, "--memory-limit", "4MiB")
+    # 3 MiB: the 512^2 image is not held (held, tiles of 64 x 128 would need 3.45 MiB), tiles of
+    # 128 x 256 written (2.7 MiB)
+    r = salkit("focus", raw, "--out", tmp_path / "big", *grid, "--memory-limit", "3MiB")
     assert r.returncode == 0, r.stderr
     a, b = open_dataset(tmp_path / "mem" / "image.nc"), open_dataset(tmp_path / "big" / "image.nc", lazy=True)
     assert b["image"].encoding["chunksizes"] == (min(b.attrs["tile_nx"], 1024), min(b.attrs["tile_ny"], 1024))
@@ -91,7 +92,7 @@ def test_focus_an_image_larger_than_its_budget_into_a_chunked_file(tmp_path, sce
     assert (tmp_path / "big" / "image.png").is_file() and (tmp_path / "big" / "report.html").is_file()
     assert describe(tmp_path / "big" / "image.nc")["image_chunks"] == list(b["image"].encoding["chunksizes"])
     assert salkit("verify", tmp_path / "big").returncode == 0
-    r = salkit("focus", raw, "--out", tmp_path / "af", *grid, "--memory-limit", "4MiB", "--autofocus", "pga")
+    r = salkit("focus", raw, "--out", tmp_path / "af", *grid, "--memory-limit", "3MiB", "--autofocus", "pga")
     assert r.returncode == 2 and "--autofocus" in r.stderr and not (tmp_path / "af").exists()
 
 

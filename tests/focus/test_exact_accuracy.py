@@ -9,10 +9,8 @@ import pytest
 
 from salkit.focus import phase_history
 from salkit.focus.exact import exact_image
-from salkit.focus import HIGH_ACCURACY_UPSAMPLE
 from salkit.focus.formers import ImageGrid, get_former
 from salkit.registry import FORMERS
-from salkit.tolerances import BP_UPSAMPLE
 from salkit.signals.windows import Window
 from salkit.simulate.testbeds import curved, seed, wide_angle
 
@@ -77,7 +75,7 @@ def test_bp_and_ffbp_promise():
 def test_each_former_keeps_its_declared_promise(alg, level, name):
     """The image error against the truth is below what the former declares for the level; FFBP's
     bright pixels also keep their phase within a degree (99th percentile)."""
-    up = HIGH_ACCURACY_UPSAMPLE if level == "high" else BP_UPSAMPLE
+    up = FORMERS[alg].upsample[level]
     img, truth = form(alg, name, upsample=up, accuracy=level)
     assert error_db(img, truth) < FORMERS[alg].accuracy[level].error_db
     if alg == "ffbp" and level == "standard":

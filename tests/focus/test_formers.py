@@ -71,7 +71,24 @@ def test_an_unknown_or_undeclared_property_is_an_error():
         register_former("t4", **_declaration(modes=("circular",)))(lambda *a, **k: None)
     with pytest.raises(ValueError, match="needs tiles=True"):
         register_former("t5", **_declaration(tiles=False, tile_overlap=4))(lambda *a, **k: None)
-    assert not {"t1", "t2", "t3", "t4", "t5"} & set(FORMERS.names())
+    for bad in ({"standard": 6}, {"standard": 1, "high": 8}, {"standard": 6, "high": 65}, {"standard": 6.0, "high": 8}):
+        with pytest.raises(ValueError, match="upsample .* must map each of .* to an int in 2..64"):
+            register_former("t6", **_declaration(upsample=bad))(lambda *a, **k: None)
+    assert not {"t1", "t2", "t3", "t4", "t5", "t6"} & set(FORMERS.names())
+
+
+def test_each_former_declares_its_upsampling_and_the_pipeline_reads_it():
+    """bp forms at 6x (8x at high accuracy), the others at 16x (32x): the declaration is what the
+    pipeline and the memory estimate read when nothing overrides it."""
+    from salkit.focus.pipeline import range_upsample
+    assert dict(FORMERS["bp"].upsample) == {"standard": 6, "high": 8}
+    assert dict(FORMERS["bp_fitted"].upsample) == dict(FORMERS["ffbp"].upsample) == {"standard": 16, "high": 32}
+    for name, spec in FORMERS.items():
+        assert range_upsample(None, algorithm=name) == spec.upsample["standard"]
+        assert range_upsample(None, "high", algorithm=name) == spec.upsample["high"]
+    P, N = 300, 400
+    assert memory_estimate(P, N, 64, 64, "bp")[0] == memory_estimate(P, N, 64, 64, "bp", upsample=6)[0]
+    assert memory_estimate(P, N, 64, 64, "bp")[0] < memory_estimate(P, N, 64, 64, "bp", upsample=16)[0]
 
 
 def test_the_readme_table_and_the_help_are_the_declarations():

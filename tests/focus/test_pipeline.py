@@ -122,8 +122,9 @@ def test_odd_sizes_and_offset_grid_centres(alg, grid):
 
 def test_upsample_overrides_the_processing_and_is_checked():
     """focus(upsample=) sets backprojection's range-profile upsampling (recorded on the image, the
-    point still to theory with bp_fitted at 6x), high accuracy still takes at least 32, and a value
-    outside 2..64 or not an integer is refused naming the field, before any work."""
+    point still to theory with bp_fitted at 6x); without it each former takes its own (bp 6, 8 at
+    high accuracy; bp_fitted 16, at least 32 at high), the processing's range_upsample overrides
+    that, and a value outside 2..64 or not an integer is refused naming the field, before any work."""
     from salkit.errors import ScenarioError
     from salkit.focus.pipeline import check_upsample, range_upsample
     sc = parse_scenario(merge(SPOT, scene={"points": [{"x": 0.07, "y": -0.03, "phase": 1.0}]}))
@@ -131,8 +132,15 @@ def test_upsample_overrides_the_processing_and_is_checked():
     img = focus(raw, sc.processing, algorithm="bp_fitted", upsample=6)
     assert img.attrs["range_upsample"] == 6
     check(measure(img, reflectivity_phase=1.0))
-    assert focus(raw, sc.processing, upsample=8, accuracy="high").attrs["range_upsample"] == 32
-    assert range_upsample(sc.processing, None, 6) == 6 and range_upsample(sc.processing) == sc.processing.range_upsample
+    assert sc.processing.algorithm == "bp" and sc.processing.range_upsample is None
+    assert focus(raw, sc.processing).attrs["range_upsample"] == 6
+    assert focus(raw, sc.processing, accuracy="high").attrs["range_upsample"] == 8
+    assert focus(raw, sc.processing, algorithm="bp_fitted", upsample=8, accuracy="high").attrs["range_upsample"] == 32
+    assert focus(raw, sc.processing, upsample=12, accuracy="high").attrs["range_upsample"] == 12
+    p12 = sc.processing.model_copy(update={"range_upsample": 12})
+    assert range_upsample(p12) == 12 and range_upsample(p12, algorithm="bp_cubic") == 12
+    assert range_upsample(sc.processing, None, 6) == 6 and range_upsample(sc.processing, algorithm="bp_cubic") == 16
+    assert range_upsample(sc.processing, algorithm="downlooking") == 16
     for bad in (1, 65, 6.5, True):
         with pytest.raises(ScenarioError, match="upsample.*integer from 2 to 64"):
             focus(raw, sc.processing, upsample=bad)

@@ -116,7 +116,7 @@ def test_image_written_tile_by_tile_into_a_chunked_file(scene, tmp_path):
     P, N = raw["signal"].shape
     lazy = open_dataset(write_dataset(raw, tmp_path / "raw.nc"), lazy=True)
     img = focus_to_file(lazy, tmp_path / "image.nc", sc.processing, algorithm="bp",
-                        memory_limit=0.6 * memory_estimate(P, N, 256, 192, "bp")[0])
+                        memory_limit=0.45 * memory_estimate(P, N, 256, 192, "bp")[0])
     assert not img["image"].variable._in_memory and img.attrs["tiles"] > 1
     assert img["image"].encoding["chunksizes"] == (min(img.attrs["tile_nx"], 1024), min(img.attrs["tile_ny"], 1024))
     assert _db(img["image"].values - ref["image"].values, ref["image"].values) < -120

@@ -18,7 +18,7 @@ def focus(raw: Path = typer.Argument(..., metavar="RAW", help="raw or phase-hist
           out_dir: Path = typer.Option(..., "--out", metavar="DIR", help="output folder (complete or absent after the run)"),
           algorithm: Optional[str] = typer.Option(None, metavar="NAME", help="the image former: {formers}"),
           accuracy: Optional[str] = typer.Option(None, metavar="LEVEL", help="standard | high (for interferometry): what each former promises at each, against the exact matched filter, is in the README's table of formers"),
-          range_upsample: Optional[int] = typer.Option(None, "--range-upsample", metavar="N", help="backprojection's range-profile upsampling, 2 to 64 (default the scenario's processing.range_upsample, else 16; accuracy high takes at least 32): bp_fitted is -74 / -88 / -98 dB against the exact matched filter at 4 / 6 / 8, bp (linear) -65 dB at 16"),
+          range_upsample: Optional[int] = typer.Option(None, "--range-upsample", metavar="N", help="backprojection's range-profile upsampling, 2 to 64 (default the scenario's processing.range_upsample, else the former's own: bp 6, bp_cubic and bp_fitted 16; accuracy high takes at least bp 8, the others 32): bp and bp_fitted are -74 / -88 / -98 / -111 dB against the exact matched filter at 4 / 6 / 8 / 16, bp_cubic -91 dB at 16"),
           window: Optional[str] = typer.Option(None, metavar="NAME", help="amplitude window: none | hamming | taylor"),
           nx: Optional[int] = typer.Option(None, metavar="PIXELS", help="grid size along azimuth, pixels (with --ny, --dx, --dy)"),
           ny: Optional[int] = typer.Option(None, metavar="PIXELS", help="grid size along range, pixels"),

@@ -18,7 +18,7 @@ import numpy as np
 import scipy.fft as sfft
 
 from ..signals.windows import Window
-from ..tolerances import BP_UPSAMPLE
+from ..tolerances import BP_DEFAULT_HIGH_UPSAMPLE, BP_DEFAULT_UPSAMPLE, BP_UPSAMPLE
 from .bp_kernel import backproject, profile_block
 from .formers import Accuracy, ImageGrid, ImageResult, Sizes, register_former
 from .phasehistory import PhaseHistory
@@ -86,13 +86,16 @@ def spotlight_backprojection(pulses, grid: ImageGrid, window: Window, ranges, *,
     return img
 
 
-def backprojection_former(interpolation: str):
+def backprojection_former(interpolation: str, default_upsample: int = BP_UPSAMPLE):
     """The former, and the pulse-block former, of backprojection whose profiles are read by
     ``interpolation``.
 
     Parameters
     ----------
     interpolation : {"linear", "nearest", "cubic", "fitted"}
+    default_upsample : int
+        The former's ``upsample`` when it is called without one (the pipeline always passes one:
+        :func:`salkit.focus.pipeline.range_upsample`).
 
     Returns
     -------
@@ -103,7 +106,7 @@ def backprojection_former(interpolation: str):
     """
     interpolation_of(interpolation)
 
-    def form(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = BP_UPSAMPLE,
+    def form(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = default_upsample,
              accuracy: str = "standard", progress=None) -> ImageResult:
         """Backprojection image.
 
@@ -117,8 +120,8 @@ def backprojection_former(interpolation: str):
             Range-profile upsampling before the profiles are interpolated (their mean response
             divided out, :mod:`salkit.focus.profiles`).
         accuracy : {"standard", "high"}
-            Not used: backprojection takes its accuracy from ``upsample`` (the pipeline passes 32
-            or more for "high").
+            Not used: backprojection takes its accuracy from ``upsample`` (the pipeline passes the
+            former's declared upsampling for the level, :func:`salkit.focus.pipeline.range_upsample`).
         progress : callable, optional
             ``progress(done, total)`` in pulses.
 
@@ -178,22 +181,31 @@ def bp_memory(sizes: Sizes) -> float:
     return profile_block(sizes.samples, up) * 16.0 * sfft.next_fast_len(int(sizes.samples * up))
 
 
-_form_linear, _blocks_linear = backprojection_former("linear")
+_form_default, _blocks_default = backprojection_former("fitted", BP_DEFAULT_UPSAMPLE)
 
-#: The ``bp`` former: backprojection, its profiles read by linear interpolation.
+#: The ``bp`` former, the default: backprojection, its profiles upsampled 6x (8x at ``accuracy:
+#: high``) and read by four taps fitted to the profile's band (``bp_fitted``'s kernel at its fastest
+#: settings that hold -85 dB). Until 0.19.0 ``bp`` read 16x profiles by linear interpolation: -65 dB,
+#: slower, and 2.7 times the profiles' bytes (linear interpolation stays in the library:
+#: :func:`salkit.focus.bp_kernel.backproject` ``interpolation="linear"``).
 form_bp = register_former(
-    "bp", summary="backprojection, any trajectory: range profiles upsampled and read by linear interpolation",
+    "bp", summary=f"backprojection, any trajectory (the default): range profiles upsampled {BP_DEFAULT_UPSAMPLE}x "
+    "and read by four taps fitted to the profile's band",
     modes=("spotlight", "stripmap"), tracks="any", phase_reference="aperture_centre", tiles=True, tile_overlap=0,
-    blocks=_blocks_linear, memory=bp_memory,
-    accuracy={"standard": Accuracy(f"{BP_UPSAMPLE}x profiles", -60.0, "-63.8 to -69 dB measured"),
-              "high": Accuracy("32x profiles", -70.0, "-75.5 to -78.5 dB measured; for interferometry")},
-)(_form_linear)
+    blocks=_blocks_default, memory=bp_memory,
+    accuracy={"standard": Accuracy(f"{BP_DEFAULT_UPSAMPLE}x profiles, fitted taps", -80.0,
+                                   "-87.1 to -88.7 dB measured"),
+              "high": Accuracy(f"{BP_DEFAULT_HIGH_UPSAMPLE}x profiles, fitted taps", -90.0,
+                               "-97.3 to -98.9 dB measured; for interferometry")},
+    upsample={"standard": BP_DEFAULT_UPSAMPLE, "high": BP_DEFAULT_HIGH_UPSAMPLE},
+)(_form_default)
 
 
 _form_cubic, _blocks_cubic = backprojection_former("cubic")
 
 #: The ``bp_cubic`` former: backprojection, its profiles read by Keys' cubic convolution (four bins,
-#: its mean response divided out): 20 to 25 dB closer to the truth than ``bp`` at the same upsampling.
+#: its mean response divided out): 20 to 25 dB closer to the truth than linear interpolation at the
+#: same upsampling, 15 to 25 dB further from it than the fitted taps.
 form_bp_cubic = register_former(
     "bp_cubic", summary="backprojection, any trajectory: range profiles upsampled and read by Keys cubic convolution",
     modes=("spotlight", "stripmap"), tracks="any", phase_reference="aperture_centre", tiles=True, tile_overlap=0,
@@ -204,8 +216,8 @@ form_bp_cubic = register_former(
 
 _form_fitted, _blocks_fitted = backprojection_former("fitted")
 
-#: The ``bp_fitted`` former: backprojection, its profiles read by four taps whose weights (cubics in
-#: the fraction) are fitted by least squares to the band the profile occupies
+#: The ``bp_fitted`` former: ``bp``'s kernel at 16x profiles (32x at ``accuracy: high``), four taps
+#: whose weights (cubics in the fraction) are fitted by least squares to the band the profile occupies
 #: (:func:`salkit.focus.profiles.fitted_coefficients`): at the cost of ``bp_cubic`` (the kernel's time
 #: hardly depends on the upsampling), -74 dB at 4x upsampling, -87 to -89 dB at 6x, -97 to -99 dB at 8x,
 #: -110 to -113.5 dB at 16x on the accuracy tests' geometries (X band to 560 km at 1.55 um).

@@ -29,7 +29,7 @@ from ..params.models import Grid
 from ..registry import FORMERS
 from ..signals.windows import Window
 from .phasehistory import PhaseHistory
-from ..tolerances import BP_UPSAMPLE
+from ..tolerances import BP_UPSAMPLE, HIGH_ACCURACY_UPSAMPLE
 
 
 @dataclass(frozen=True)
@@ -181,6 +181,10 @@ class FormerSpec:
         signal, the range compression's buffers, the image's accumulators and output).
     accuracy : mapping
         Every level of :data:`salkit.choices.ACCURACY` -> :class:`Accuracy`.
+    upsample : mapping
+        Range-profile upsampling (backprojection) at each level of :data:`salkit.choices.ACCURACY`:
+        the default at "standard", the least at "high" (others ignore it). Default
+        :data:`salkit.tolerances.BP_UPSAMPLE` and :data:`salkit.tolerances.HIGH_ACCURACY_UPSAMPLE`.
     """
 
     name: str
@@ -194,6 +198,8 @@ class FormerSpec:
     blocks: Optional[Callable]
     memory: Callable[[Sizes], float]
     accuracy: Mapping[str, Accuracy] = field(default_factory=dict)
+    upsample: Mapping[str, int] = field(default_factory=lambda: {"standard": BP_UPSAMPLE,
+                                                                 "high": HIGH_ACCURACY_UPSAMPLE})
 
     def __post_init__(self):
         what = f"image former {self.name!r}"
@@ -207,6 +213,9 @@ class FormerSpec:
         if sorted(self.accuracy) != sorted(ACCURACY) or not all(isinstance(a, Accuracy) for a in self.accuracy.values()):
             raise ValueError(f"{what}: accuracy must map each of {ACCURACY} to an Accuracy (undeclared: "
                              f"{', '.join(a for a in ACCURACY if a not in self.accuracy) or 'none'})")
+        if sorted(self.upsample) != sorted(ACCURACY) or not all(
+                isinstance(u, int) and 2 <= u <= 64 for u in self.upsample.values()):
+            raise ValueError(f"{what}: upsample {dict(self.upsample)!r} must map each of {ACCURACY} to an int in 2..64")
         if self.tile_overlap < 0 or (self.tile_overlap and not self.tiles):
             raise ValueError(f"{what}: tile_overlap {self.tile_overlap} needs tiles=True and must be >= 0")
         if self.blocks is not None and not self.tiles:

@@ -28,9 +28,10 @@ from ..io.writing import ImageFileWriter
 from ..metrics.pointtarget import window_ipr
 from ..params.models import Grid, Processing, Scenario
 from ..params.scenario import stored_scenario
+from ..registry import FORMERS
 from ..resources import available_memory, parse_size, size_text, user_limit
 from ..signals.windows import Window
-from ..tolerances import BP_UPSAMPLE, GRID_SPACING_OF_RESOLUTION
+from ..tolerances import BP_UPSAMPLE, GRID_SPACING_OF_RESOLUTION, HIGH_ACCURACY_UPSAMPLE
 from ..simulate.echoes import memory_estimate as simulate_memory_estimate, signal_shape
 from .downlooking import focus_downlooking_raw
 from .formers import ImageGrid, ImageResult, former_spec, get_former
@@ -46,15 +47,13 @@ BUILT_IN_MODULES = tuple(sorted(m.name for m in pkgutil.iter_modules(sys.modules
 for _name in BUILT_IN_MODULES:
     importlib.import_module(f"{__package__}.{_name}")
 
-#: Range-profile upsampling of ``bp`` at ``accuracy = "high"`` (-78 dB against the exact matched filter).
-HIGH_ACCURACY_UPSAMPLE = 32
-
 
 def range_upsample(processing: Optional[Processing], accuracy: str | None = None,
-                   override: int | None = None) -> int:
+                   override: int | None = None, algorithm: str | None = None) -> int:
     """Backprojection's range-profile upsampling for these settings: ``override`` if given, else
-    the processing's ``range_upsample`` (default :data:`salkit.tolerances.BP_UPSAMPLE`), at least
-    :data:`HIGH_ACCURACY_UPSAMPLE` for ``accuracy: high``.
+    the processing's ``range_upsample``, else the former's own default (its declaration's
+    ``upsample``: ``bp`` 6, ``bp_cubic`` and ``bp_fitted`` 16), and at ``accuracy: high`` at least
+    the former's high one (``bp`` 8, the others :data:`HIGH_ACCURACY_UPSAMPLE`).
 
     Parameters
     ----------
@@ -63,6 +62,9 @@ def range_upsample(processing: Optional[Processing], accuracy: str | None = None
         Overrides the processing's.
     override : int, optional
         Overrides the processing's upsampling (``focus(..., upsample=)``, ``--range-upsample``).
+    algorithm : str, optional
+        The former; overrides the processing's (default ``bp``). A name that is no image former
+        (a processor such as ``downlooking``) takes :data:`salkit.tolerances.BP_UPSAMPLE`.
 
     Returns
     -------
@@ -70,12 +72,18 @@ def range_upsample(processing: Optional[Processing], accuracy: str | None = None
 
     Examples
     --------
-    >>> range_upsample(None), range_upsample(None, "high"), range_upsample(None, None, 6)
-    (16, 32, 6)
+    >>> range_upsample(None), range_upsample(None, "high"), range_upsample(None, None, 12)
+    (6, 8, 12)
+    >>> range_upsample(None, algorithm="bp_cubic"), range_upsample(None, "high", algorithm="bp_cubic")
+    (16, 32)
     """
-    up = override if override is not None else (processing.range_upsample if processing is not None else BP_UPSAMPLE)
+    alg = algorithm or (processing.algorithm if processing is not None else "bp")
+    spec = FORMERS.get(alg, "processing.algorithm") if alg in FORMERS else None
+    own = spec.upsample if spec is not None else {"standard": BP_UPSAMPLE, "high": HIGH_ACCURACY_UPSAMPLE}
+    given = processing.range_upsample if processing is not None else None
+    up = override if override is not None else (given if given is not None else own["standard"])
     acc = accuracy or (processing.accuracy if processing is not None else "standard")
-    return up if acc == "standard" else max(up, HIGH_ACCURACY_UPSAMPLE)
+    return up if acc == "standard" else max(up, own["high"])
 
 
 def _upsample_bounds() -> tuple[int, int]:
@@ -242,7 +250,7 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
     noise_fix = processing.phase_noise_correction if processing is not None else "none"
     spread = _spread(client)
     upsample = check_upsample(upsample)
-    up = range_upsample(processing, accuracy, upsample)
+    up = range_upsample(processing, accuracy, upsample, alg)
     tiling, held = _plan(raw, alg, g0.nx if g0 else 256, g0.ny if g0 else 256, memory_limit, out is None, spread, up)
     if tiling.pulse_block < P:  # the signal is read and range-compressed a block at a time
         pulses = DatasetPulses(raw, chirp, noise_fix)
@@ -300,7 +308,7 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
 
 
 def _plan(raw: xr.Dataset, alg: str, nx: int, ny: int, memory_limit, hold_image: bool, spread: dict,
-          upsample: int = BP_UPSAMPLE):
+          upsample: int | None = None):
     """The tiling of focusing ``raw`` onto nx x ny (:func:`salkit.focus.tiles.plan_tiling`) within
     the budget, counting the signal as held when it is in memory; and the bytes held."""
     P, N = raw["signal"].shape
@@ -390,7 +398,7 @@ def image_fits(raw: xr.Dataset, processing: Optional[Processing] = None, *, grid
     alg = algorithm or (proc.algorithm if proc is not None else "bp")
     try:
         _plan(raw, alg, g.nx, g.ny, memory_limit, True, _spread(client),
-              range_upsample(proc, accuracy, check_upsample(upsample)))
+              range_upsample(proc, accuracy, check_upsample(upsample), alg))
     except ResourceError:
         return False
     return True
@@ -465,7 +473,7 @@ def form_image(ph: PhaseHistory, processing: Processing, grid: Grid, *, algorith
     alg = algorithm or processing.algorithm
     acc = accuracy or processing.accuracy
     check_choice("processing.accuracy", acc, ACCURACY)
-    upsample = range_upsample(processing, acc)
+    upsample = range_upsample(processing, acc, algorithm=alg)
     win = Window(window_name or processing.window, processing.taylor_nbar, processing.taylor_sll)
     ig = ImageGrid.of(ph, grid)
     if sink is not None or client is not None or (tiling is not None and tiling.tiled):

@@ -30,7 +30,6 @@ from ..io.formats import read_phase_data
 from ..resources import in_dask_task, size_text as gib, task_numba_threads
 from ..signals.windows import Window
 from ..registry import FORMERS
-from ..tolerances import BP_UPSAMPLE
 from .formers import ImageGrid, Sizes, former_spec
 from .phasehistory import PhaseHistory, phase_history
 
@@ -45,7 +44,7 @@ KERNEL_BLOCK = 32
 
 
 def memory_estimate(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str = "bp",
-                    raw: bool = True, cover_pixels: int | None = None, upsample: int = BP_UPSAMPLE) -> tuple[float, str]:
+                    raw: bool = True, cover_pixels: int | None = None, upsample: int | None = None) -> tuple[float, str]:
     """Peak memory of focusing, bytes, from the sizes.
 
     What every former holds: the signal (complex64, pulses x samples) once, and from raw data the
@@ -67,8 +66,9 @@ def memory_estimate(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: 
         Dechirped fast-time data (deskewed here) rather than a phase history.
     cover_pixels : int, optional
         PFA's formed grid when larger than nx x ny.
-    upsample : int
-        Backprojection's range-profile upsampling (its profiles grow with it).
+    upsample : int, optional
+        Backprojection's range-profile upsampling (its profiles grow with it); default the
+        former's own (its declaration's ``upsample`` at "standard").
 
     Returns
     -------
@@ -84,7 +84,8 @@ def memory_estimate(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: 
     sig = 8.0 * n_pulses * n_samples
     px = float(nx) * ny
     need = sig * (7 if raw else 2) + 24.0 * px
-    need += float(spec.memory(Sizes(n_pulses, n_samples, nx, ny, int(max(cover_pixels or 0, px)), int(upsample))))
+    up = spec.upsample["standard"] if upsample is None else int(upsample)
+    need += float(spec.memory(Sizes(n_pulses, n_samples, nx, ny, int(max(cover_pixels or 0, px)), up)))
     return need, (f"focusing {n_pulses} pulses x {n_samples} samples onto {nx} x {ny} pixels "
                   f"({algorithm})")
 
@@ -155,7 +156,7 @@ class Tiling:
 
 def plan_tiling(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str, budget: float, *,
                 raw: bool = True, stripmap: bool = False, hold_image: bool = True, at_once: int = 1,
-                min_tiles: int = 1, upsample: int = BP_UPSAMPLE) -> Tiling:
+                min_tiles: int = 1, upsample: int | None = None) -> Tiling:
     """The largest tiles (and pulse blocks) whose estimated memory fits ``budget``.
 
     Parameters
@@ -181,8 +182,8 @@ def plan_tiling(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str,
         Tiles in work at the same time on this budget (the workers of a local Dask cluster).
     min_tiles : int
         At least this many tiles (work for every worker), even when fewer would fit.
-    upsample : int
-        Backprojection's range-profile upsampling (:func:`memory_estimate`).
+    upsample : int, optional
+        Backprojection's range-profile upsampling (:func:`memory_estimate`; default the former's own).
 
     Returns
     -------
