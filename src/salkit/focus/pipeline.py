@@ -78,8 +78,7 @@ def range_upsample(processing: Optional[Processing], accuracy: str | None = None
     (16, 32)
     """
     alg = algorithm or (processing.algorithm if processing is not None else "bp")
-    spec = FORMERS.get(alg, "processing.algorithm") if alg in FORMERS else None
-    own = spec.upsample if spec is not None else {"standard": BP_UPSAMPLE, "high": HIGH_ACCURACY_UPSAMPLE}
+    own = FORMERS[alg].upsample if alg in FORMERS else {"standard": BP_UPSAMPLE, "high": HIGH_ACCURACY_UPSAMPLE}
     given = processing.range_upsample if processing is not None else None
     up = override if override is not None else (given if given is not None else own["standard"])
     acc = accuracy or (processing.accuracy if processing is not None else "standard")
