@@ -332,38 +332,45 @@ def simulate_factored(scat: DLScatterers, exp, design: DLDesign, Y: np.ndarray,
         for parity in (0, 1):
             sgn = 1.0 if parity == 0 else -1.0
             # (x - s_V)^2 - (x - s_P)^2 = (s_P - s_V)(2x - s_V - s_P), s_V + s_P = 2 bias_common
-            X = _along_factor(t, x_in[sl], kx, -2.0 * (sgn * s.speed), -2.0 * o.bias_opposite, o.bias_common)
+            Xc, Xs = _along_factor(t, x_in[sl], kx, -2.0 * (sgn * s.speed), -2.0 * o.bias_opposite, o.bias_common)
             rows = np.arange(parity, Y.size, 2)
             diff = differential[rows] if differential is not None else np.zeros(rows.size)
-            Ym = _scan_factor(Y[rows], diff, yq[sl], dz[sl], w[sl], ky, -o.focal_transmit, 0.5 * o.stop_y)
-            out[rows] += (4 * c * sn) * np.real(Ym @ X.T)
+            Yc, Ys = _scan_factor(Y[rows], diff, yq[sl], dz[sl], w[sl], ky, -o.focal_transmit, 0.5 * o.stop_y)
+            # Re(Y X^T) = Yc Xc^T - Ys Xs^T: two real products where the complex one takes four
+            out[rows] += (4 * c * sn) * (Yc @ Xc.T - Ys @ Xs.T)
     return out
 
 
 @nb.njit(parallel=True, cache=True)
 def _along_factor(t, x, k, rate, offset, centre):
-    """X(t, q) = exp(j k (rate t + offset) 2 (x_q - centre)), complex64, the phase in float64."""
-    out = np.empty((t.size, x.size), np.complex64)
+    """X(t, q) = exp(j k (rate t + offset) 2 (x_q - centre)) as its real and imaginary parts,
+    float32 each, the phase in float64."""
+    re = np.empty((t.size, x.size), np.float32)
+    im = np.empty((t.size, x.size), np.float32)
     for i in nb.prange(t.size):
         a = k * (rate * t[i] + offset)
         for q in range(x.size):
             ph = a * 2.0 * (x[q] - centre)
-            out[i, q] = complex(math.cos(ph), math.sin(ph))
-    return out
+            re[i, q] = math.cos(ph)
+            im[i, q] = math.sin(ph)
+    return re, im
 
 
 @nb.njit(parallel=True, cache=True)
 def _scan_factor(Yr, diff, y, dz, w, k, scale, half_stop):
     """Y(n, q) = w_q exp(j (k y_in^2 - diff_n)) inside the field stop (|y_in| <= half_stop), else 0,
-    with y_in = scale (y_q - Y_n) / dz_q; complex64, the phase in float64."""
-    out = np.zeros((Yr.size, y.size), np.complex64)
+    with y_in = scale (y_q - Y_n) / dz_q, as its real and imaginary parts, float32 each, the phase
+    in float64."""
+    re = np.zeros((Yr.size, y.size), np.float32)
+    im = np.zeros((Yr.size, y.size), np.float32)
     for n in nb.prange(Yr.size):
         for q in range(y.size):
             yi = scale * (y[q] - Yr[n]) / dz[q]
             if abs(yi) <= half_stop:
                 ph = k * yi * yi - diff[n]
-                out[n, q] = complex(w[q] * math.cos(ph), w[q] * math.sin(ph))
-    return out
+                re[n, q] = w[q] * math.cos(ph)
+                im[n, q] = w[q] * math.sin(ph)
+    return re, im
 
 
 def add_receiver_noise(current: np.ndarray, snr_db: float | None, hwp_angle_deg: float,
