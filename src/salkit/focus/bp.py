@@ -186,7 +186,7 @@ _form_default, _blocks_default = backprojection_former("fitted", BP_DEFAULT_UPSA
 #: The ``bp`` former, the default: backprojection, its profiles upsampled 6x (8x at ``accuracy:
 #: high``) and read by four taps fitted to the profile's band (``bp_fitted``'s kernel at its fastest
 #: settings that hold -85 dB). Until 0.19.0 ``bp`` read 16x profiles by linear interpolation: -65 dB,
-#: slower, and 2.7 times the profiles' bytes (linear interpolation stays in the library:
+#: slower, its kernel reading 2.7 times the bytes (linear interpolation stays in the library:
 #: :func:`salkit.focus.bp_kernel.backproject` ``interpolation="linear"``).
 form_bp = register_former(
     "bp", summary=f"backprojection, any trajectory (the default): range profiles upsampled {BP_DEFAULT_UPSAMPLE}x "

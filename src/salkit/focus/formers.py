@@ -25,7 +25,7 @@ import numpy as np
 
 from ..choices import ACCURACY
 from ..geometry.collection import ImagePlane, grid_axes, plane_from
-from ..params.models import Grid
+from ..params.models import Grid, Processing
 from ..registry import FORMERS
 from ..signals.windows import Window
 from .phasehistory import PhaseHistory
@@ -148,6 +148,24 @@ TRACKS = ("any", "straight")
 PHASE_REFERENCES = ("aperture_centre", "track")
 
 
+def upsample_bounds() -> tuple[int, int]:
+    """The range-profile upsampling allowed, as ``processing.range_upsample`` declares it (its
+    field's ge and le): the bounds of a former's declaration, of ``focus(upsample=)`` and of
+    ``--range-upsample``.
+
+    Returns
+    -------
+    (int, int)
+
+    Examples
+    --------
+    >>> upsample_bounds()
+    (2, 64)
+    """
+    meta = Processing.model_fields["range_upsample"].metadata
+    return (next(int(m.ge) for m in meta if hasattr(m, "ge")), next(int(m.le) for m in meta if hasattr(m, "le")))
+
+
 @dataclass(frozen=True)
 class FormerSpec:
     """What the house knows of an image former, declared once (:func:`register_former`).
@@ -213,9 +231,11 @@ class FormerSpec:
         if sorted(self.accuracy) != sorted(ACCURACY) or not all(isinstance(a, Accuracy) for a in self.accuracy.values()):
             raise ValueError(f"{what}: accuracy must map each of {ACCURACY} to an Accuracy (undeclared: "
                              f"{', '.join(a for a in ACCURACY if a not in self.accuracy) or 'none'})")
+        lo, hi = upsample_bounds()
         if sorted(self.upsample) != sorted(ACCURACY) or not all(
-                isinstance(u, int) and 2 <= u <= 64 for u in self.upsample.values()):
-            raise ValueError(f"{what}: upsample {dict(self.upsample)!r} must map each of {ACCURACY} to an int in 2..64")
+                isinstance(u, int) and lo <= u <= hi for u in self.upsample.values()):
+            raise ValueError(f"{what}: upsample {dict(self.upsample)!r} must map each of {ACCURACY} to an int in "
+                             f"{lo}..{hi}")
         if self.tile_overlap < 0 or (self.tile_overlap and not self.tiles):
             raise ValueError(f"{what}: tile_overlap {self.tile_overlap} needs tiles=True and must be >= 0")
         if self.blocks is not None and not self.tiles:

@@ -34,7 +34,7 @@ from ..signals.windows import Window
 from ..tolerances import BP_UPSAMPLE, GRID_SPACING_OF_RESOLUTION, HIGH_ACCURACY_UPSAMPLE
 from ..simulate.echoes import memory_estimate as simulate_memory_estimate, signal_shape
 from .downlooking import focus_downlooking_raw
-from .formers import ImageGrid, ImageResult, former_spec, get_former
+from .formers import ImageGrid, ImageResult, former_spec, get_former, upsample_bounds
 from .phasehistory import PhaseHistory, default_grid, phase_history, theory_resolution
 from .tiles import DatasetPulses, InMemoryPulses, form_tiles, memory_estimate, plan_tiling
 
@@ -85,12 +85,6 @@ def range_upsample(processing: Optional[Processing], accuracy: str | None = None
     return up if acc == "standard" else max(up, own["high"])
 
 
-def _upsample_bounds() -> tuple[int, int]:
-    """The bounds ``processing.range_upsample`` declares (its field's ge and le)."""
-    meta = Processing.model_fields["range_upsample"].metadata
-    return (next(int(m.ge) for m in meta if hasattr(m, "ge")), next(int(m.le) for m in meta if hasattr(m, "le")))
-
-
 def check_upsample(upsample, name: str = "upsample") -> int | None:
     """``upsample`` as an int within what ``processing.range_upsample`` allows (2 to 64), or None.
 
@@ -111,7 +105,7 @@ def check_upsample(upsample, name: str = "upsample") -> int | None:
     """
     if upsample is None:
         return None
-    lo, hi = _upsample_bounds()
+    lo, hi = upsample_bounds()
     if isinstance(upsample, bool) or not float(upsample).is_integer() or not lo <= int(upsample) <= hi:
         raise ScenarioError(name, upsample, f"backprojection's range-profile upsampling: an integer from {lo} to {hi}")
     return int(upsample)
@@ -181,8 +175,9 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=
         shared by the workers of a local one (``client.cluster`` a ``LocalCluster``).
     upsample : int, optional
         Backprojection's range-profile upsampling, 2 to 64; overrides ``processing.range_upsample``
-        (``accuracy: high`` still takes at least 32). The four-tap ``bp_fitted`` is -74, -88 and
-        -98 dB against the truth at 4, 6 and 8 (docs/performance.md).
+        and the former's own (:func:`range_upsample`: ``bp`` 6; ``accuracy: high`` still takes at
+        least the former's high one, ``bp`` 8, the others 32). The fitted taps of ``bp`` and
+        ``bp_fitted`` are -74, -88 and -98 dB against the truth at 4, 6 and 8 (docs/performance.md).
 
     Returns
     -------
