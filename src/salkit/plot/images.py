@@ -227,25 +227,66 @@ def model_view_figure(view: dict, path, title: str = "") -> Path:
     """
     fig, (ax, top) = _subplots(1, 2, figsize=(11, 4.6))
     seen = view["state"] == 0
-    pts = ax.scatter(view["h"][seen], view["v"][seen], c=view["z"][seen], s=1, cmap="viridis", rasterized=True)
-    fig.colorbar(pts, ax=ax, label="height (m)")
-    ax.set_aspect("equal")
+    z = view["z"]
+    norm = plt.Normalize(float(z.min()), float(max(z.max(), z.min() + 1e-9)))
+    # hundreds of thousands of samples: drawn as an image of points (the highest sample of each
+    # cell on top), where a scatter of markers took seconds to draw
+    rgba = plt.cm.viridis(norm(z[seen]))
+    _points_image(ax, view["h"][seen], view["v"][seen], z[seen], rgba)
+    fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap="viridis"), ax=ax, label="height (m)")
     ax.set_xlabel("across the line of sight, horizontal (m)")
     ax.set_ylabel("across the line of sight, vertical (m)")
     ax.set_title("seen from the sensor")
-    order = np.argsort(view["z"])  # from above: each sample drawn over the ones below it
-    order = order[view["state"][order] < 2]
-    z = view["z"][order]
-    norm = plt.Normalize(float(view["z"].min()), float(max(view["z"].max(), view["z"].min() + 1e-9)))
-    colour = plt.cm.viridis(norm(z))
-    colour[view["state"][order] == 1] = (0.84, 0.15, 0.16, 1.0)
-    top.scatter(view["x"][order], view["y"][order], c=colour, s=1, rasterized=True)
+    front = view["state"] < 2  # from above: each cell shows its highest seen or shadowed sample
+    colour = plt.cm.viridis(norm(z[front]))
+    colour[view["state"][front] == 1] = (0.84, 0.15, 0.16, 1.0)
+    _points_image(top, view["x"][front], view["y"][front], z[front], colour)
     top.scatter([], [], color=plt.cm.viridis(0.5), s=20, label="seen by the sensor (height)")
     top.scatter([], [], color=(0.84, 0.15, 0.16), s=20, label="hidden from it (shadowed)")
-    top.set_aspect("equal", adjustable="datalim")
     top.set_xlabel("x, azimuth (m)")
     top.set_ylabel("y, ground range (m)")
     top.set_title("from above (the sensor towards -y)")
     top.legend(loc="upper right", fontsize=8)
     fig.suptitle(title or "the 3-D model")
     return _save(fig, path)
+
+
+#: Cells across the longer side of a point image (about the panel's pixels at the figures' 110 dpi).
+POINT_CELLS = 480
+
+
+def _points_image(ax, x, y, z, rgba, cells: int = POINT_CELLS):
+    """Draw points (x, y) coloured ``rgba`` (N, 4) as an image on equal axes: a grid ``cells``
+    wide along the longer side, each point a 3 x 3-cell dot (as a 1-point marker at the figures'
+    resolution), the highest (``z``) point on top where dots overlap; empty cells transparent.
+    Returns the image artist."""
+    x, y, z = (np.asarray(a, np.float64) for a in (x, y, z))
+    if x.size == 0:
+        return ax.imshow(np.zeros((1, 1, 4)))
+    x0, x1, y0, y1 = float(x.min()), float(x.max()), float(y.min()), float(y.max())
+    side = max(x1 - x0, y1 - y0, 1e-12) / cells
+    nx = int((x1 - x0) / side) + 1
+    ny = int((y1 - y0) / side) + 1
+    ix = np.minimum(((x - x0) / side).astype(np.int64), nx - 1)
+    iy = np.minimum(((y - y0) / side).astype(np.int64), ny - 1)
+    order = np.argsort(z, kind="stable")[::-1]  # highest first: np.unique keeps each cell's first
+    cell, first = np.unique((iy * nx + ix)[order], return_index=True)
+    # each cell's highest point, two cells of margin round; the image (one cell of margin) shows in
+    # each cell the highest point within one cell of it
+    top = np.full((ny + 4) * (nx + 4), -np.inf)
+    colour = np.zeros(((ny + 4) * (nx + 4), 4))
+    at = (iy[order[first]] + 2) * (nx + 4) + ix[order[first]] + 2
+    top[at] = z[order[first]]
+    colour[at] = rgba[order[first]]
+    top = top.reshape(ny + 4, nx + 4)
+    colour = colour.reshape(ny + 4, nx + 4, 4)
+    best = np.full((ny + 2, nx + 2), -np.inf)
+    img = np.zeros((ny + 2, nx + 2, 4))
+    for dy in range(3):
+        for dx in range(3):
+            zs = top[dy:dy + ny + 2, dx:dx + nx + 2]
+            hi = zs > best
+            best[hi] = zs[hi]
+            img[hi] = colour[dy:dy + ny + 2, dx:dx + nx + 2][hi]
+    ext = (x0 - side, x0 + (nx + 1) * side, y0 - side, y0 + (ny + 1) * side)
+    return ax.imshow(img, origin="lower", extent=ext, interpolation="nearest", aspect="equal")
