@@ -26,7 +26,7 @@ def _subplots(*args, **kwargs):
 def _save(fig, path: str | Path) -> Path:
     try:
         with atomic_path(path, suffix=".png") as tmp:
-            fig.savefig(tmp, dpi=110, bbox_inches="tight")
+            fig.savefig(tmp, dpi=110)
     finally:
         plt.close(fig)
     return Path(path)
