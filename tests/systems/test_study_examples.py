@@ -70,19 +70,23 @@ def test_strehl_at_target_against_r0_expectation():
     aperture's long-exposure Strehl ratio within 3 standard errors, at the weak and medium classes;
     a sweep may start at Cn2 = 0 (the turbulence-free path, where these metrics do not exist)."""
     sc, _, _ = _load("turbulence_cn2")
-    ds = sweep(sc, {"atmosphere.cn2": [0.0, 1e-15, 1e-14], "processing.autofocus": ["none"]}, realisations=24,
-               metrics=["strehl_at_target", "peak_ratio"])
+    kw = {"metrics": ["strehl_at_target", "peak_ratio"]}
+    ds = sweep(sc, {"atmosphere.cn2": [0.0, 1e-15], "processing.autofocus": ["none"]}, realisations=2, **kw)
+    assert (ds["status"].values == "ok").all()
+    for name in ("strehl_at_target", "strehl_at_target_theory"):  # no turbulence, no turbulence metrics
+        v = ds[name].isel({"processing.autofocus": 0})
+        assert np.isnan(v.sel({"atmosphere.cn2": 0.0})).all() and np.isfinite(v.sel({"atmosphere.cn2": 1e-15})).all()
+    # the ensemble: the turbulence-free path left out (its 24 realisations would be one run 24 times)
+    ds = sweep(sc, {"atmosphere.cn2": [1e-15, 1e-14], "processing.autofocus": ["none"]}, realisations=24, **kw)
     s = ds["strehl_at_target"].isel({"processing.autofocus": 0})
     th = ds["strehl_at_target_theory"].isel({"processing.autofocus": 0})
     assert (ds["status"].values == "ok").all()
-    assert np.isnan(s.sel({"atmosphere.cn2": 0.0})).all()  # no turbulence, no turbulence metrics
     for cn2 in (1e-15, 1e-14):
         v = s.sel({"atmosphere.cn2": cn2}).values
         t = float(th.sel({"atmosphere.cn2": cn2}).values[0])
         se = v.std(ddof=1) / np.sqrt(v.size)
         assert abs(v.mean() - t) < 3 * se, (cn2, v.mean(), t, se)
         assert t < (0.2 if cn2 == 1e-15 else 0.06)  # L = 0.5 m spans many r0: the theory is far from 1
-    assert np.isnan(th.sel({"atmosphere.cn2": 0.0})).all()
 
 
 def test_linewidth_study_follows_the_expected_peak_loss():

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import difflib
 import re
+from functools import lru_cache
 import warnings
 from dataclasses import dataclass
 from typing import Optional
@@ -52,9 +53,14 @@ class MetricSpec:
     @property
     def pattern(self) -> re.Pattern:
         """The regular expression of the names it stands for (itself and its theory partner)."""
-        alts = [self.name] + ([self.theory] if self.theory else [])
-        return re.compile("|".join("(?:" + re.escape(a).replace(r"\{\}", r"[0-9][0-9.]*").replace(
-            r"\{word\}", r"[a-z][a-z0-9_]*") + ")" for a in alts))
+        return _compiled((self.name,) + ((self.theory,) if self.theory else ()))
+
+
+@lru_cache(maxsize=None)
+def _compiled(alts: tuple) -> re.Pattern:
+    """The pattern of a metric's names (compiled once: runs look every metric name up)."""
+    return re.compile("|".join("(?:" + re.escape(a).replace(r"\{\}", r"[0-9][0-9.]*").replace(
+        r"\{word\}", r"[a-z][a-z0-9_]*") + ")" for a in alts))
 
 
 def declare_metric(name: str, unit: str, meaning: str, theory: bool | str | None = None) -> MetricSpec:
@@ -97,13 +103,23 @@ def lookup(name: str) -> Optional[MetricSpec]:
     True
     """
     specs = [s for _, s in METRICS.items()]
+    key = (str(name), len(specs))  # a declaration added later is looked up afresh
+    if key in _LOOKED_UP:
+        return _LOOKED_UP[key]
+    found = None
     parts = str(name).split("_")
     for k in range(len(parts)):  # the name itself, then without one more leading label word
         tail = "_".join(parts[k:])
-        for s in specs:
-            if s.pattern.fullmatch(tail):
-                return s
-    return None
+        found = next((s for s in specs if s.pattern.fullmatch(tail)), None)
+        if found is not None:
+            break
+    if len(_LOOKED_UP) < 100_000:
+        _LOOKED_UP[key] = found
+    return found
+
+
+#: Names already looked up (with the number of declarations then) -> their metric or None.
+_LOOKED_UP: dict = {}
 
 
 def check_metric(name: str, field: str = "--metric") -> MetricSpec:
