@@ -20,12 +20,15 @@ from __future__ import annotations
 
 import math
 
+import lazy_loader as _lazy
 import numpy as np
 import xarray as xr
 from numba import get_num_threads, njit, prange
 
 from ..errors import ScenarioError
 from ..geometry.ranges import differential_range, range_offsets
+
+_finufft = _lazy.load("finufft", suppress_warning=True)
 
 #: Frequency samples between exact re-evaluations of the phase in the recurrence.
 ANCHOR = 64
@@ -112,10 +115,9 @@ def _nufft_points(p, ref, D, f0, df, half, pts, amp_re, amp_im, c_out, x_out):
 
 def _nufft_phase_history(pos, ref, D, f0, df, M, pts, amp_re, amp_im):
     """The phase history by one type-1 non-uniform FFT a pulse (finufft), complex128 (P, M)."""
-    import finufft
     P, K = pos.shape[0], pts.shape[0]
     out = np.empty((P, M), np.complex128)
-    plan = finufft.Plan(1, (M,), eps=NUFFT_EPS, isign=1, nthreads=max(1, get_num_threads()))
+    plan = _finufft.Plan(1, (M,), eps=NUFFT_EPS, isign=1, nthreads=max(1, get_num_threads()))
     c = np.empty(K, np.complex128)
     x = np.empty(K, np.float64)
     for n in range(P):
