@@ -29,14 +29,14 @@ def pytest_configure(config):
 
 #: The longest test files, run first: under xdist's ``--dist loadfile`` files go to workers in
 #: collection order, and one of these last would leave the other worker idle for its length at the
-#: end. Ordered by their measured totals (``--durations=0``, 0.20.0, 2 workers: 127, 91, 82, 79, 59,
-#: 52, 50, 33, 26, 25 s, then 14 to 19 s).
+#: end. Ordered by their measured totals (``--durations=0``, 0.21.0, 2 workers: 106, 84, 81, 62, 51,
+#: 48, 40, 36, 34, 25 s, then 13 to 20 s).
 LONGEST_FIRST = ("cli/test_demo.py", "cli/test_main_reliability.py", "cli/test_main_budgets.py",
-                 "autofocus/test_pulses.py", "systems/test_turbulence.py", "atmosphere/test_beam.py",
-                 "systems/test_study_examples.py", "atmosphere/test_spherical.py", "stack/test_stacking.py",
-                 "report/test_docs_tutorials.py", "atmosphere/test_scintillation.py", "systems/test_spaceborne.py",
-                 "studies/test_engine.py", "cli/test_studies.py", "atmosphere/test_screens.py",
-                 "atmosphere/test_path.py")
+                 "systems/test_turbulence.py", "atmosphere/test_beam.py", "systems/test_study_examples.py",
+                 "focus/test_exact_accuracy.py", "autofocus/test_pulses.py", "atmosphere/test_spherical.py",
+                 "stack/test_stacking.py", "focus/test_tiles.py", "cli/test_studies.py",
+                 "report/test_docs_tutorials.py", "systems/test_spaceborne.py", "simulate/test_sal_noise.py",
+                 "cli/test_data.py", "atmosphere/test_screens.py", "simulate/test_sal.py", "studies/test_engine.py")
 
 
 def pytest_collection_modifyitems(session, config, items):
