@@ -86,3 +86,21 @@ def test_aperture_strehl_limits():
     u = np.linspace(0, 0.5, 200001)
     closed = 2 / 0.5 ** 2 * np.trapezoid((0.5 - u) * np.exp(-2 * 6.88 * (u / 0.05) ** (5 / 3)), u)
     assert aperture_strehl(z, r0, R, pos, np.ones(n), u0) == pytest.approx(closed, rel=2e-3)
+
+
+def test_paths_of_one_seed_share_their_draws_scaled_by_r0():
+    """Two Cn2 with one seed: the same draws, each layer's screen scaled by r0^(-5/6) (a screen of
+    Fried parameter r0 is the r0 = 1 m screen times r0^(-5/6)), to float32 rounding; another seed
+    draws other screens; a path's screens are its own (writing them leaves the next path alone)."""
+    from salkit.atmosphere.screens import phase_screens
+    args = (3e4, 2e-6, 4, 48, 0.01, np.array([0.0, -0.6, 0.8]), np.array([1.0, 0.0, 0.0]))
+    a = build_path(1e-15, *args, seed=3)
+    b = build_path(1e-14, *args, seed=3)
+    ratio = (a.r0 / b.r0) ** (-5.0 / 6.0)
+    np.testing.assert_allclose(a.screens, b.screens * ratio[:, None, None].astype(np.float32), rtol=1e-5, atol=1e-6)
+    rng = np.random.default_rng(3)  # layer by layer from one generator, as drawn at the layer's r0
+    first = phase_screens(48, 0.01, float(a.r0[0]), count=1, rng=rng, dtype=np.float32)[0]
+    np.testing.assert_allclose(a.screens[0], first, rtol=1e-5, atol=1e-5 * np.abs(first).max())
+    assert not np.allclose(build_path(1e-15, *args, seed=4).screens, a.screens)
+    a.screens[:] = 0.0
+    assert np.abs(build_path(1e-15, *args, seed=3).screens).max() > 0

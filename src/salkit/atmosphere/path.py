@@ -15,7 +15,9 @@ D(d) = sum_i 6.88 (d z_i / (R r0_i))^(5/3): the spherical-wave r0 of the path, a
 from __future__ import annotations
 
 import math
+import threading
 import warnings
+from collections import OrderedDict
 from dataclasses import dataclass
 
 import numpy as np
@@ -154,14 +156,43 @@ def build_path(cn2, slant_range: float, wavelength: float, layers: int, n: int, 
         Screens (rad), layer distances z (m), per-layer r0 (m) and the frame.
     """
     z, r0 = path_layers(cn2, slant_range, wavelength, layers)
-    scr = np.empty((layers, n, n), np.float32)
-    rng = np.random.default_rng(seed)
-    for i in range(layers):
-        scr[i] = phase_screens(n, dx, float(r0[i]), count=1, rng=rng, outer_scale=outer_scale,
-                               inner_scale=inner_scale, dtype=np.float32)[0]
+    # a screen scales as r0^(-5/6): the same seed's draws at r0 = 1 m serve every Cn2 (the classes
+    # of a turbulence study, the models compared, the figures' path), each layer scaled to its r0
+    scr = _unit_screens(layers, n, float(dx), seed, outer_scale, inner_scale).copy()
+    scr *= (np.asarray(r0, np.float64) ** (-5.0 / 6.0)).astype(np.float32)[:, None, None]
     u0, a, b = path_frame(u0, a)
     origin = np.tile(np.array(centre) - (n - 1) / 2 * dx, (layers, 1))
     return TurbulentPath(scr, z, r0, dx, origin, u0, a, b, wavelength, float(slant_range))
+
+
+#: Bytes of unit-r0 layer screens kept for the next path of the same size, spacing, scales and seed.
+UNIT_SCREEN_CACHE_BYTES = 256 * 2 ** 20
+_unit_cache: OrderedDict = OrderedDict()
+_unit_lock = threading.Lock()
+
+
+def _unit_screens(layers: int, n: int, dx: float, seed: int, outer_scale, inner_scale) -> np.ndarray:
+    """The layers' screens at r0 = 1 m, float32 (layers, n, n), drawn in turn from one generator
+    seeded ``seed`` (read-only; the least recently used dropped beyond
+    :data:`UNIT_SCREEN_CACHE_BYTES`)."""
+    key = (layers, n, dx, seed, outer_scale, inner_scale)
+    keep = isinstance(seed, (int, np.integer))  # no seed: fresh entropy, never kept
+    with _unit_lock:
+        if keep and key in _unit_cache:
+            _unit_cache.move_to_end(key)
+            return _unit_cache[key]
+    rng = np.random.default_rng(seed)
+    scr = np.empty((layers, n, n), np.float32)
+    for i in range(layers):
+        scr[i] = phase_screens(n, dx, 1.0, count=1, rng=rng, outer_scale=outer_scale, inner_scale=inner_scale,
+                               dtype=np.float32)[0]
+    scr.flags.writeable = False
+    if keep and scr.nbytes <= UNIT_SCREEN_CACHE_BYTES:
+        with _unit_lock:
+            _unit_cache[key] = scr
+            while sum(a.nbytes for a in _unit_cache.values()) > UNIT_SCREEN_CACHE_BYTES:
+                _unit_cache.popitem(last=False)
+    return scr
 
 
 def path_layers(cn2, slant_range: float, wavelength: float, layers: int) -> tuple[np.ndarray, np.ndarray]:
