@@ -93,7 +93,7 @@ def test_paths_of_one_seed_share_their_draws_scaled_by_r0():
     Fried parameter r0 is the r0 = 1 m screen times r0^(-5/6)), to float32 rounding; another seed
     draws other screens; a path's screens are its own (writing them leaves the next path alone)."""
     from salkit.atmosphere.screens import phase_screens
-    args = (3e4, 2e-6, 4, 48, 0.01, np.array([0.0, -0.6, 0.8]), np.array([1.0, 0.0, 0.0]))
+    args = (1e3, 2e-6, 4, 48, 0.01, np.array([0.0, -0.6, 0.8]), np.array([1.0, 0.0, 0.0]))
     a = build_path(1e-15, *args, seed=3)
     b = build_path(1e-14, *args, seed=3)
     ratio = (a.r0 / b.r0) ** (-5.0 / 6.0)
