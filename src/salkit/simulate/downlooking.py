@@ -394,6 +394,14 @@ def _scan_factor_direct(Yr, diff, y, dz, w, k, scale, half_stop):
 ANCHOR_ROWS = 32
 
 
+@nb.njit(cache=True, inline="always")
+def _anchor_block(blk, rows, Q):
+    """Rows first .. last (exclusive) of anchor block ``blk``, and its phasor and step buffers
+    (real and imaginary parts, ``Q`` each)."""
+    first = blk * ANCHOR_ROWS
+    return first, min(first + ANCHOR_ROWS, rows), np.empty(Q), np.empty(Q), np.empty(Q), np.empty(Q)
+
+
 @nb.njit(parallel=True, cache=True, fastmath=False)
 def _along_factor(t, dt, x, k, rate, offset, centre):
     """X(t, q) = exp(j k (rate t + offset) 2 (x_q - centre)) at uniform t_i (step dt) as its real
@@ -403,14 +411,8 @@ def _along_factor(t, dt, x, k, rate, offset, centre):
     nt = t.size
     re = np.empty((nt, Q), np.float32)
     im = np.empty((nt, Q), np.float32)
-    nb_ = (nt + ANCHOR_ROWS - 1) // ANCHOR_ROWS
-    for blk in nb.prange(nb_):
-        i0 = blk * ANCHOR_ROWS
-        i1 = min(i0 + ANCHOR_ROWS, nt)
-        zr = np.empty(Q)
-        zi = np.empty(Q)
-        wr = np.empty(Q)
-        wi = np.empty(Q)
+    for blk in nb.prange((nt + ANCHOR_ROWS - 1) // ANCHOR_ROWS):
+        i0, i1, zr, zi, wr, wi = _anchor_block(blk, nt, Q)
         a = k * (rate * t[i0] + offset)
         da = k * rate * dt
         for q in range(Q):
@@ -446,14 +448,8 @@ def _scan_factor(Y0, dY, ny, diff, y, dz, w, k, scale, half_stop):
         B = sq[q] * dY
         vr[q] = math.cos(2.0 * k * B * B)
         vi[q] = math.sin(2.0 * k * B * B)
-    nb_ = (ny + ANCHOR_ROWS - 1) // ANCHOR_ROWS
-    for blk in nb.prange(nb_):
-        n0 = blk * ANCHOR_ROWS
-        n1 = min(n0 + ANCHOR_ROWS, ny)
-        zr = np.empty(Q)
-        zi = np.empty(Q)
-        wr = np.empty(Q)
-        wi = np.empty(Q)
+    for blk in nb.prange((ny + ANCHOR_ROWS - 1) // ANCHOR_ROWS):
+        n0, n1, zr, zi, wr, wi = _anchor_block(blk, ny, Q)
         for q in range(Q):
             A = sq[q] * (y[q] - (Y0 + n0 * dY))  # y_in at row n0; y_in(n0 + m) = A - m B
             B = sq[q] * dY
