@@ -104,3 +104,14 @@ def test_paths_of_one_seed_share_their_draws_scaled_by_r0():
     assert not np.allclose(build_path(1e-15, *args, seed=4).screens, a.screens)
     a.screens[:] = 0.0
     assert np.abs(build_path(1e-15, *args, seed=3).screens).max() > 0
+
+
+def test_screens_memory_counts_the_kept_draw():
+    """A path's screens are counted twice while their unit draw is kept beside them, once beyond
+    the cache's bound (never kept); a path without a seed draws afresh every time."""
+    from salkit.atmosphere.path import UNIT_SCREEN_CACHE_BYTES, screens_memory
+    assert screens_memory(50, 256) == 2 * 4.0 * 50 * 256 * 256
+    big = int((UNIT_SCREEN_CACHE_BYTES / 4.0 / 50) ** 0.5) + 1
+    assert screens_memory(50, big) == 4.0 * 50 * big * big
+    args = (1e3, 2e-6, 4, 32, 0.01, np.array([0.0, -0.6, 0.8]), np.array([1.0, 0.0, 0.0]))
+    assert not np.allclose(build_path(1e-15, *args, seed=None).screens, build_path(1e-15, *args, seed=None).screens)

@@ -24,7 +24,7 @@ import numpy as np
 from numba import njit, prange
 
 from ..errors import ScenarioError
-from .screens import phase_screens
+from .screens import cached_array, keep_array, phase_screens
 from .turbulence import max_layer_spacing, r0_from_cn2, structure_function
 
 
@@ -158,7 +158,8 @@ def build_path(cn2, slant_range: float, wavelength: float, layers: int, n: int, 
     z, r0 = path_layers(cn2, slant_range, wavelength, layers)
     # a screen scales as r0^(-5/6): the same seed's draws at r0 = 1 m serve every Cn2 (the classes
     # of a turbulence study, the models compared, the figures' path), each layer scaled to its r0
-    scr = _unit_screens(layers, n, float(dx), seed, outer_scale, inner_scale).copy()
+    scr = _unit_screens(layers, n, float(dx), seed, outer_scale, inner_scale)
+    scr = scr.copy() if not scr.flags.writeable else scr  # the cache's own stays as drawn
     scr *= (np.asarray(r0, np.float64) ** (-5.0 / 6.0)).astype(np.float32)[:, None, None]
     u0, a, b = path_frame(u0, a)
     origin = np.tile(np.array(centre) - (n - 1) / 2 * dx, (layers, 1))
@@ -171,27 +172,39 @@ _unit_cache: OrderedDict = OrderedDict()
 _unit_lock = threading.Lock()
 
 
+def screens_memory(layers: int, n: int) -> float:
+    """Bytes a path's screens hold: float32 (layers, n, n), twice where the unit-r0 draw is kept
+    (:data:`UNIT_SCREEN_CACHE_BYTES`) beside the path's scaled copy.
+
+    Parameters
+    ----------
+    layers, n : int
+
+    Returns
+    -------
+    float
+        bytes.
+    """
+    size = 4.0 * layers * n * n
+    return 2.0 * size if size <= UNIT_SCREEN_CACHE_BYTES else size
+
+
 def _unit_screens(layers: int, n: int, dx: float, seed: int, outer_scale, inner_scale) -> np.ndarray:
     """The layers' screens at r0 = 1 m, float32 (layers, n, n), drawn in turn from one generator
-    seeded ``seed`` (read-only; the least recently used dropped beyond
-    :data:`UNIT_SCREEN_CACHE_BYTES`)."""
+    seeded ``seed``: kept (read-only) for the next path of the same key when seeded and within
+    :data:`UNIT_SCREEN_CACHE_BYTES`, else a writable array of the caller's own."""
     key = (layers, n, dx, seed, outer_scale, inner_scale)
     keep = isinstance(seed, (int, np.integer))  # no seed: fresh entropy, never kept
-    with _unit_lock:
-        if keep and key in _unit_cache:
-            _unit_cache.move_to_end(key)
-            return _unit_cache[key]
+    scr = cached_array(_unit_cache, _unit_lock, key) if keep else None
+    if scr is not None:
+        return scr
     rng = np.random.default_rng(seed)
     scr = np.empty((layers, n, n), np.float32)
     for i in range(layers):
         scr[i] = phase_screens(n, dx, 1.0, count=1, rng=rng, outer_scale=outer_scale, inner_scale=inner_scale,
                                dtype=np.float32)[0]
-    scr.flags.writeable = False
     if keep and scr.nbytes <= UNIT_SCREEN_CACHE_BYTES:
-        with _unit_lock:
-            _unit_cache[key] = scr
-            while sum(a.nbytes for a in _unit_cache.values()) > UNIT_SCREEN_CACHE_BYTES:
-                _unit_cache.popitem(last=False)
+        keep_array(_unit_cache, _unit_lock, key, scr, UNIT_SCREEN_CACHE_BYTES)
     return scr
 
 

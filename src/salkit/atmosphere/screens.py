@@ -63,20 +63,60 @@ _amplitude_cache: OrderedDict = OrderedDict()
 _amplitude_lock = threading.Lock()
 
 
+def cached_array(cache: OrderedDict, lock, key):
+    """The array kept under ``key`` in ``cache`` (marked most recently used), or None.
+
+    Parameters
+    ----------
+    cache : OrderedDict
+    lock : threading.Lock
+    key : hashable
+
+    Returns
+    -------
+    ndarray or None
+    """
+    with lock:
+        if key in cache:
+            cache.move_to_end(key)
+            return cache[key]
+    return None
+
+
+def keep_array(cache: OrderedDict, lock, key, arr: np.ndarray, max_bytes: float) -> np.ndarray:
+    """Keep ``arr`` (made read-only) under ``key``, dropping the least recently used arrays while
+    the cache holds more than ``max_bytes`` (the newest always stays).
+
+    Parameters
+    ----------
+    cache : OrderedDict
+    lock : threading.Lock
+    key : hashable
+    arr : ndarray
+    max_bytes : float
+        bytes.
+
+    Returns
+    -------
+    ndarray
+        ``arr``.
+    """
+    arr.flags.writeable = False
+    with lock:
+        cache[key] = arr
+        while len(cache) > 1 and sum(a.nbytes for a in cache.values()) > max_bytes:
+            cache.popitem(last=False)
+    return arr
+
+
 def _spectrum_amplitudes(n, dx, r0, L0, l0):
     """:func:`_spectrum_table`, kept for the next screen of the same size, spacing and scales
     (read-only; least recently used dropped beyond :data:`AMPLITUDE_CACHE_BYTES`)."""
     key = (n, dx, r0, L0, l0)
-    with _amplitude_lock:
-        if key in _amplitude_cache:
-            _amplitude_cache.move_to_end(key)
-            return _amplitude_cache[key]
-    amp = _spectrum_table(n, dx, r0, L0, l0)
-    amp.flags.writeable = False
-    with _amplitude_lock:
-        _amplitude_cache[key] = amp
-        while len(_amplitude_cache) > 1 and sum(a.nbytes for a in _amplitude_cache.values()) > AMPLITUDE_CACHE_BYTES:
-            _amplitude_cache.popitem(last=False)
+    amp = cached_array(_amplitude_cache, _amplitude_lock, key)
+    if amp is None:
+        amp = keep_array(_amplitude_cache, _amplitude_lock, key, _spectrum_table(n, dx, r0, L0, l0),
+                         AMPLITUDE_CACHE_BYTES)
     return amp
 
 

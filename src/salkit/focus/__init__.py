@@ -17,9 +17,10 @@ Modules: :mod:`~salkit.focus.pipeline` (``focus``, memory estimates, the image d
 """
 from .formers import FORMERS, Accuracy, FormerSpec, ImageGrid, ImageResult, former_spec, get_former, register_former
 from .phasehistory import PhaseHistory, default_grid, phase_history, theory_resolution
-from .pipeline import (HIGH_ACCURACY_UPSAMPLE, PROCESSORS, add_collection_geometry, focus, focus_sal, focus_to_file,
-                       form_image, grid_of, image_fits, memory_budget, memory_estimate, run_memory_estimate)
+from .pipeline import (PROCESSORS, add_collection_geometry, focus, focus_sal, focus_to_file, form_image, grid_of,
+                       image_fits, memory_budget, memory_estimate, run_memory_estimate)
 from .rangecomp import range_compress
+from ..tolerances import HIGH_ACCURACY_UPSAMPLE
 from .._callable import make_callable as _make_callable
 
 __all__ = ["Accuracy", "FORMERS", "FormerSpec", "HIGH_ACCURACY_UPSAMPLE", "former_spec", "ImageGrid", "ImageResult", "PROCESSORS", "PhaseHistory",

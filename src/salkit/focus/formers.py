@@ -19,6 +19,7 @@ user's for others) and its test; docs/architecture.md has the recipe.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from types import MappingProxyType
 from typing import Callable, Mapping, NamedTuple, Optional, Protocol
 
 import numpy as np
@@ -148,6 +149,11 @@ TRACKS = ("any", "straight")
 PHASE_REFERENCES = ("aperture_centre", "track")
 
 
+#: Range-profile upsampling of a former that declares none (``FormerSpec.upsample``), and of a
+#: processor that is no former.
+DEFAULT_UPSAMPLE = MappingProxyType({"standard": BP_UPSAMPLE, "high": HIGH_ACCURACY_UPSAMPLE})
+
+
 def upsample_bounds() -> tuple[int, int]:
     """The range-profile upsampling allowed, as ``processing.range_upsample`` declares it (its
     field's ge and le): the bounds of a former's declaration, of ``focus(upsample=)`` and of
@@ -216,8 +222,7 @@ class FormerSpec:
     blocks: Optional[Callable]
     memory: Callable[[Sizes], float]
     accuracy: Mapping[str, Accuracy] = field(default_factory=dict)
-    upsample: Mapping[str, int] = field(default_factory=lambda: {"standard": BP_UPSAMPLE,
-                                                                 "high": HIGH_ACCURACY_UPSAMPLE})
+    upsample: Mapping[str, int] = field(default_factory=lambda: dict(DEFAULT_UPSAMPLE))
 
     def __post_init__(self):
         what = f"image former {self.name!r}"

@@ -31,10 +31,10 @@ from ..params.scenario import stored_scenario
 from ..registry import FORMERS
 from ..resources import available_memory, parse_size, size_text, user_limit
 from ..signals.windows import Window
-from ..tolerances import BP_UPSAMPLE, GRID_SPACING_OF_RESOLUTION, HIGH_ACCURACY_UPSAMPLE
+from ..tolerances import GRID_SPACING_OF_RESOLUTION
 from ..simulate.echoes import memory_estimate as simulate_memory_estimate, signal_shape
 from .downlooking import focus_downlooking_raw
-from .formers import ImageGrid, ImageResult, former_spec, get_former, upsample_bounds
+from .formers import DEFAULT_UPSAMPLE, ImageGrid, ImageResult, former_spec, get_former, upsample_bounds
 from .phasehistory import PhaseHistory, default_grid, phase_history, theory_resolution
 from .tiles import DatasetPulses, InMemoryPulses, form_tiles, memory_estimate, plan_tiling
 
@@ -53,7 +53,7 @@ def range_upsample(processing: Optional[Processing], accuracy: str | None = None
     """Backprojection's range-profile upsampling for these settings: ``override`` if given, else
     the processing's ``range_upsample``, else the former's own default (its declaration's
     ``upsample``: ``bp`` 6, ``bp_cubic`` and ``bp_fitted`` 16), and at ``accuracy: high`` at least
-    the former's high one (``bp`` 8, the others :data:`HIGH_ACCURACY_UPSAMPLE`).
+    the former's high one (``bp`` 8, the others :data:`salkit.tolerances.HIGH_ACCURACY_UPSAMPLE`).
 
     Parameters
     ----------
@@ -78,7 +78,7 @@ def range_upsample(processing: Optional[Processing], accuracy: str | None = None
     (16, 32)
     """
     alg = algorithm or (processing.algorithm if processing is not None else "bp")
-    own = FORMERS[alg].upsample if alg in FORMERS else {"standard": BP_UPSAMPLE, "high": HIGH_ACCURACY_UPSAMPLE}
+    own = FORMERS[alg].upsample if alg in FORMERS else DEFAULT_UPSAMPLE
     given = processing.range_upsample if processing is not None else None
     up = override if override is not None else (given if given is not None else own["standard"])
     acc = accuracy or (processing.accuracy if processing is not None else "standard")

@@ -16,9 +16,9 @@ from __future__ import annotations
 
 import difflib
 import re
-from functools import lru_cache
 import warnings
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Optional
 
 import numpy as np

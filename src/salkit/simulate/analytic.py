@@ -25,6 +25,7 @@ import numpy as np
 import xarray as xr
 from numba import get_num_threads, njit, prange
 
+from ..constants import SPEED_OF_LIGHT
 from ..errors import ScenarioError
 from ..geometry.ranges import differential_range, range_offsets
 
@@ -98,7 +99,7 @@ def _nufft_points(p, ref, D, f0, df, half, pts, amp_re, amp_im, c_out, x_out):
     """One pulse's type-1 NUFFT points x_k (rad a frequency step, in [-pi, pi)) and coefficients
     c_k = a_k exp(j (phase at the first frequency + half x_k)): modes -M/2 .. M/2 - 1 are then the
     frequencies 0 .. M - 1. Phases in cycles, reduced in float64 before sin and cos."""
-    two_over_c = 2.0 / 299792458.0
+    two_over_c = 2.0 / SPEED_OF_LIGHT
     for k in range(pts.shape[0]):
         d = differential_range(pts[k, 0], pts[k, 1], pts[k, 2], p[0], p[1], p[2], ref, D)
         step = -two_over_c * df * d  # cycles a frequency step

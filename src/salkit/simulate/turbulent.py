@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from ..atmosphere.beam import layered_r0_spherical, plan_beam, screen_need
-from ..atmosphere.path import build_path, path_frame, ray_crossings
+from ..atmosphere.path import build_path, path_frame, ray_crossings, screens_memory
 from ..atmosphere.turbulence import r0_from_cn2
 from ..errors import ScenarioError
 from ..geometry.collection import Collection
@@ -79,7 +79,7 @@ def turbulent_path(scenario: Scenario, col: Collection):
     atm = scenario.atmosphere
     R = float(np.linalg.norm(col.center_position))
     n = screen_size(scenario, col)
-    check_memory(atm.layers * n * n * 4.0, f"{atm.layers} phase screens of {n} x {n}",
+    check_memory(screens_memory(atm.layers, n), f"{atm.layers} phase screens of {n} x {n}",
                  "use fewer atmosphere.layers or a coarser atmosphere.screen_dx")
     return build_path(atm.cn2, R, scenario.waveform.wavelength, atm.layers, n, atm.screen_dx,
                       col.center_position / R, col.track, seed=atm.seed, outer_scale=atm.outer_scale,
