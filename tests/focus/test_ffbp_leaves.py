@@ -1,9 +1,10 @@
 """FFBP's leaf kernels: the least-squares interpolation tables against Lagrange on band-limited
-signals, and the leaves' series for R - |X - c| against the exact quotient."""
+signals, their polynomial form against the float64 weights, and the leaves' series for
+R - |X - c| against the exact quotient."""
 import numpy as np
 import pytest
 
-from salkit.focus.ffbp_leaves import interpolation_table
+from salkit.focus.ffbp_leaves import interpolation_table, least_squares_weights, polynomial_weights
 
 
 def _bandlimited(os, n=2048, seed=0):
@@ -56,3 +57,20 @@ def test_leaf_series_equals_the_exact_quotient(monkeypatch):
     monkeypatch.setattr(F, "SERIES", False)
     b, _ = F.ffbp(ph.data, ph.freq, ph.positions, ph.reference_range, ig, np.ones(P), np.ones(M))
     assert np.sum(np.abs(a - b) ** 2) <= 1e-10 * np.sum(np.abs(b) ** 2)  # -100 dB (often identical in float32)
+
+
+@pytest.mark.parametrize("os", [1.25, 1.5, 1.75, 2.0, 3.0, 4.0])
+def test_polynomial_weights_equal_the_least_squares_weights(os):
+    """The weights' polynomials (evaluated in float32, as the kernels do) stay within 2e-5 of
+    the float64 least-squares weights at every fraction, closer than the table's nearest entry."""
+    t = np.random.default_rng(2).uniform(0.0, 1.0, 5000)
+    c = polynomial_weights(8, os)
+    s = (2.0 * t - 1.0).astype(np.float32)
+    w = np.zeros((t.size, 8), np.float32)
+    for d in range(c.shape[1] - 1, -1, -1):  # Horner in float32
+        w = w * s[:, None] + c[:, d][None, :]
+    exact = least_squares_weights(8, os, t)
+    assert np.abs(w - exact).max() < 2e-5
+    table = interpolation_table(8, os)
+    nearest = table[np.rint(t * (table.shape[0] - 1)).astype(int)]
+    assert np.abs(w - exact).max() < np.abs(nearest - exact).max()

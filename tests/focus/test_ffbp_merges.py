@@ -1,10 +1,13 @@
 """FFBP's merge kernels: merging by two or by four gives the image direct backprojection gives,
-and the last step's point-by-point path equals its separable row pass."""
+the last step's angle cut along a row equals the float64 least-squares interpolation at the
+row's exact angles, and its point-by-point path equals its separable row pass."""
 import numpy as np
 
 from salkit import focus, simulate
 from salkit.focus import phase_history
 from salkit.focus.ffbp import ffbp
+from salkit.focus.ffbp_leaves import least_squares_weights, polynomial_weights
+from salkit.focus.ffbp_merges import _angle_cut_row
 from salkit.focus.formers import ImageGrid
 from salkit.simulate.testbeds import wide_angle
 
@@ -36,3 +39,35 @@ def test_final_step_point_by_point_agrees(monkeypatch):
     assert _error_db(b, c) < -40
 
 
+
+
+def test_row_angle_cut_equals_float64_interpolation_at_the_exact_angles():
+    """On a row along the range axis u = along / r exactly: the cut at each child range bin is
+    the 8-tap least-squares interpolation across the child's angle rows at that u, here against
+    a float64 evaluation, on rows crossing many angle samples (both signs of ``along``), with
+    the bins whose taps leave the grid set to zero."""
+    rng = np.random.default_rng(3)
+    nu, nb = 300, 2000
+    G = (rng.standard_normal((2, nu, nb)) + 1j * rng.standard_normal((2, nu, nb))).astype(np.complex64)
+    Gf = G.view(np.float32)
+    os_, r0, dr, u0, du = 1.75, 9000.0, 0.5, -0.052, 3.5e-4
+    cp = polynomial_weights(8, os_)
+    fb = np.empty(nb)
+    s2 = np.empty(2 * nb, np.float32)
+    h2 = np.empty(2 * nb, np.float32)
+    for along in (-445.0, 2.0, 467.0):
+        j_lo, j_hi = 50, 1900
+        _angle_cut_row(Gf, 1, nu, along, r0, dr, u0, 1.0 / du, j_lo, j_hi, cp, h2, fb, s2)
+        got = h2[:2 * (j_hi + 1 - j_lo)].view(np.complex64)
+        j = np.arange(j_lo, j_hi + 1)
+        f = (along / (r0 + j * dr) - u0) / du
+        iu = np.floor(f).astype(int)
+        inside = (iu >= 3) & (iu + 5 <= nu)
+        assert inside.any() and (~inside).any() if along == 467.0 else inside.all()
+        want = np.zeros(j.size, np.complex128)
+        w = least_squares_weights(8, os_, f[inside] - iu[inside])
+        rows = iu[inside, None] + np.arange(-3, 5)[None, :]
+        want[inside] = np.sum(w * G[1][rows, j[inside, None]], axis=1)
+        assert np.all(got[~inside] == 0)
+        err = np.abs(got - want).max() / np.abs(want[inside]).max()
+        assert err < 1e-4, (along, err)

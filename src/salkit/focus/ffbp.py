@@ -22,7 +22,13 @@ one source bin per point. Each merge interpolates separably: the parent's line o
 the child's range bins in order, so the child is first cut along the line in angle at its own
 range bins, then the cut is interpolated in range (16 taps instead of 64); the last step does the
 same along the image's rows. Both passes run in segments where the interpolation fraction moves
-little and linearly, with weights linear along the segment, over contiguous floats (SIMD).
+little and linearly, with weights linear along the segment, over contiguous floats (SIMD). The
+last step's angle pass is the exception: along a row the direction cosine is exactly
+u = (x - c).e_a / r with a numerator constant on the row, and away from the middle rows it moves
+by a sizeable part of a sample within a few bins (segments of 1/32 sample were two bins long
+there and cost half the step), so each bin's weights come from the kernel's polynomials in the
+fraction (``polynomial_weights``, degree 6, within 1e-5 of the float64 weights), in runs of one
+integer angle index, over contiguous floats.
 
 Precision: sub-images are at baseband about |x - c| - rho_c, rho_c = |c - o| (o the scene
 centre), and every phase is formed from small differences (|x - a| - |x - b| =
@@ -76,7 +82,7 @@ MARGIN_ANGLE = 5
 MARGIN_RANGE = 6
 
 
-from .ffbp_leaves import _chunks, _leaf_kernel, interpolation_table
+from .ffbp_leaves import _chunks, _leaf_kernel, interpolation_table, polynomial_weights
 from .ffbp_merges import ANGLE_TAPS, _final_kernel, _final_rows, _merge_kernel
 
 
@@ -287,8 +293,8 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     az, rg = np.asarray(grid.azimuth, np.float64), np.asarray(grid.range, np.float64)
     res = np.array([rho_residual(o, c, r) for c, r in zip(centres, rho)])
     if _rows_in_order(o, er, centres, rg):
-        _final_rows(G.view(np.float32), u0, du, nu, r0, nr, centres, rho, res, dr, o, ea, er, az, rg, cyc_per_m, tu,
-                    tr, img, _chunks())
+        _final_rows(G.view(np.float32), u0, du, nu, r0, nr, centres, rho, res, dr, o, ea, er, az, rg, cyc_per_m,
+                    polynomial_weights(ANGLE_TAPS, oversample_angle), tr, img, _chunks())
     else:
         _final_kernel(G, u0, du, nu, r0, nr, centres, rho, res, dr, o, ea, er, az, rg, cyc_per_m, tu, tr, img)
     done += 1

@@ -250,28 +250,98 @@ def _final_kernel(G, cu0, cdu, cnu, cr0, cnr, ccen, crho, cres, dr_child, o, ea,
             out[i, j] = complex(acc_r, acc_i)
 
 
+@njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
+def _angle_cut_row(Gf, c, nuc, along, r0c, dr, u0c, inv_du, j_lo, j_hi, cp, h2, fb, s2):
+    """A child cut along an image row in angle, at each of the child's range bins j_lo .. j_hi,
+    into ``h2`` (float32 (re, im) interleaved).
+
+    On a row (a line along the plane's range axis, orthogonal to its azimuth axis) the direction
+    cosine from the child's centre is exactly u = ``along`` / r, ``along`` = (x - c).e_a for the
+    whole row, so each bin's angle index is (along / r_j - u0) / du: no search and no segments.
+    Away from the middle rows it changes by a sizeable part of a sample within a few bins (a
+    row at the image's edge crosses about 90 angle samples), so the weights are evaluated at
+    every bin from their polynomials ``cp`` (:func:`~salkit.focus.ffbp_leaves.polynomial_weights`,
+    8 taps, degree 6), in runs of one integer angle index whose inner loop runs over contiguous
+    floats (SIMD). ``fb`` (float64) and ``s2`` (float32, twice as long) are scratch of at least
+    the cut's length.
+    """
+    ha = ANGLE_TAPS // 2 - 1
+    m = j_hi + 1 - j_lo
+    for q in range(m):
+        fb[q] = (along / (r0c + (j_lo + q) * dr) - u0c) * inv_du
+    # the coefficients as scalars: loop invariants the vector loop keeps in registers or broadcasts
+    c00, c01, c02, c03, c04, c05, c06 = cp[0, 0], cp[0, 1], cp[0, 2], cp[0, 3], cp[0, 4], cp[0, 5], cp[0, 6]
+    c10, c11, c12, c13, c14, c15, c16 = cp[1, 0], cp[1, 1], cp[1, 2], cp[1, 3], cp[1, 4], cp[1, 5], cp[1, 6]
+    c20, c21, c22, c23, c24, c25, c26 = cp[2, 0], cp[2, 1], cp[2, 2], cp[2, 3], cp[2, 4], cp[2, 5], cp[2, 6]
+    c30, c31, c32, c33, c34, c35, c36 = cp[3, 0], cp[3, 1], cp[3, 2], cp[3, 3], cp[3, 4], cp[3, 5], cp[3, 6]
+    c40, c41, c42, c43, c44, c45, c46 = cp[4, 0], cp[4, 1], cp[4, 2], cp[4, 3], cp[4, 4], cp[4, 5], cp[4, 6]
+    c50, c51, c52, c53, c54, c55, c56 = cp[5, 0], cp[5, 1], cp[5, 2], cp[5, 3], cp[5, 4], cp[5, 5], cp[5, 6]
+    c60, c61, c62, c63, c64, c65, c66 = cp[6, 0], cp[6, 1], cp[6, 2], cp[6, 3], cp[6, 4], cp[6, 5], cp[6, 6]
+    c70, c71, c72, c73, c74, c75, c76 = cp[7, 0], cp[7, 1], cp[7, 2], cp[7, 3], cp[7, 4], cp[7, 5], cp[7, 6]
+    q = 0
+    while q < m:
+        iu = int(math.floor(fb[q]))
+        e = q
+        while e + 1 < m and int(math.floor(fb[e + 1])) == iu:
+            e += 1
+        n2 = 2 * (e + 1 - q)
+        hh = h2[2 * q:2 * q + n2]
+        if iu < ha or iu + ANGLE_TAPS - ha > nuc:
+            for r in range(n2):
+                hh[r] = np.float32(0.0)
+            q = e + 1
+            continue
+        ss = s2[:n2]
+        fq = fb[q:e + 1]
+        for p in range(e + 1 - q):  # s = 2 t - 1 for both floats of the bin
+            v = np.float32(2.0 * (fq[p] - iu) - 1.0)
+            ss[2 * p] = v
+            ss[2 * p + 1] = v
+        g = 2 * (j_lo + q)
+        b0 = iu - ha
+        x0 = Gf[c, b0, g:g + n2]
+        x1 = Gf[c, b0 + 1, g:g + n2]
+        x2 = Gf[c, b0 + 2, g:g + n2]
+        x3 = Gf[c, b0 + 3, g:g + n2]
+        x4 = Gf[c, b0 + 4, g:g + n2]
+        x5 = Gf[c, b0 + 5, g:g + n2]
+        x6 = Gf[c, b0 + 6, g:g + n2]
+        x7 = Gf[c, b0 + 7, g:g + n2]
+        for r in range(n2):  # sum_d s^d sum_b c[b, d] x_b: Horner over d
+            y6 = c06 * x0[r] + c16 * x1[r] + c26 * x2[r] + c36 * x3[r] + c46 * x4[r] + c56 * x5[r] + c66 * x6[r] + c76 * x7[r]
+            y5 = c05 * x0[r] + c15 * x1[r] + c25 * x2[r] + c35 * x3[r] + c45 * x4[r] + c55 * x5[r] + c65 * x6[r] + c75 * x7[r]
+            y4 = c04 * x0[r] + c14 * x1[r] + c24 * x2[r] + c34 * x3[r] + c44 * x4[r] + c54 * x5[r] + c64 * x6[r] + c74 * x7[r]
+            y3 = c03 * x0[r] + c13 * x1[r] + c23 * x2[r] + c33 * x3[r] + c43 * x4[r] + c53 * x5[r] + c63 * x6[r] + c73 * x7[r]
+            y2 = c02 * x0[r] + c12 * x1[r] + c22 * x2[r] + c32 * x3[r] + c42 * x4[r] + c52 * x5[r] + c62 * x6[r] + c72 * x7[r]
+            y1 = c01 * x0[r] + c11 * x1[r] + c21 * x2[r] + c31 * x3[r] + c41 * x4[r] + c51 * x5[r] + c61 * x6[r] + c71 * x7[r]
+            y0 = c00 * x0[r] + c10 * x1[r] + c20 * x2[r] + c30 * x3[r] + c40 * x4[r] + c50 * x5[r] + c60 * x6[r] + c70 * x7[r]
+            t = ss[r]
+            hh[r] = y0 + t * (y1 + t * (y2 + t * (y3 + t * (y4 + t * (y5 + t * y6)))))
+        q = e + 1
+
+
 @njit(parallel=True, nogil=True, cache=True, fastmath=True, error_model="numpy")
-def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, cres, dr_child, o, ea, er, az, rg, cyc_per_m, tu, tr, out,
+def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, cres, dr_child, o, ea, er, az, rg, cyc_per_m, cp, tr, out,
                 chunks):
     """Every remaining sub-image interpolated onto the output grid row by row, separably (as a
     merge: a row along the range axis crosses each child's range bins in order when every child
-    centre lies on the near side of the image, which the caller checks), its phase
-    k (|x - c| - rho_c) restored child by child from small quantities: the line centred on the
-    child (no baseband change) and ``extra`` = (x - o).((x - o) + 2 (o - c)) / (|x - c| + rho_c)
-    + ``cres``, |o - c| - rho_c computed exactly by the caller. (|x - c| and rho_c, hundreds of
-    kilometres each, differenced directly, lose a float64 rounding of |x - c| at every pixel:
-    4.9e-4 rad rms at 560 km and 1.55 um, a -64 dB floor.)"""
+    centre lies on the near side of the image, which the caller checks): per child, the cut along
+    the row in angle at the child's range bins (:func:`_angle_cut_row`), then that cut in range at
+    every pixel (:func:`~salkit.focus.ffbp_leaves._range_pass`), its phase k (|x - c| - rho_c)
+    restored from small quantities: (x - o).((x - o) + 2 (o - c)) / (|x - c| + rho_c) + ``cres``,
+    |o - c| - rho_c computed exactly by the caller. (|x - c| and rho_c, hundreds of kilometres
+    each, differenced directly, lose a float64 rounding of |x - c| at every pixel: 4.9e-4 rad rms
+    at 560 km and 1.55 um, a -64 dB floor.) ``cp``: the angle weights' polynomials."""
     nx, ny = out.shape
+    n_bins = Gf.shape[2] // 2
     n_chunks = max(1, min(nx, chunks))
     for ch in prange(n_chunks):
-        X0, X1, X2, d, E0, E1, E2, fr_b, v_b, sn_b, cs_b, acc2, t2, h2, ex = _line_scratch(ny, Gf.shape[2])
-        row = np.empty(ny, np.complex64)
+        _x0, _x1, _x2, rc_b, _e0, _e1, _e2, fr_b, ex, sn_b, cs_b, acc2, t2, h2, _z = _line_scratch(ny, 2 * n_bins)
+        fb = np.empty(n_bins)
+        s2 = np.empty(2 * n_bins, np.float32)
         for i in range(ch * nx // n_chunks, (ch + 1) * nx // n_chunks):
-            for k in range(ny):
-                X0[k] = o[0] + az[i] * ea[0] + rg[k] * er[0]
-                X1[k] = o[1] + az[i] * ea[1] + rg[k] * er[1]
-                X2[k] = o[2] + az[i] * ea[2] + rg[k] * er[2]
-                out[i, k] = 0j
+            for k in range(2 * ny):
+                acc2[k] = np.float32(0.0)
             for c in range(Gf.shape[0]):
                 a0 = o[0] - ccen[c, 0]
                 a1 = o[1] - ccen[c, 1]
@@ -281,10 +351,23 @@ def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, cres, dr_child, o, ea, 
                     g1 = az[i] * ea[1] + rg[k] * er[1]
                     g2 = az[i] * ea[2] + rg[k] * er[2]
                     rc = math.sqrt((g0 + a0) ** 2 + (g1 + a1) ** 2 + (g2 + a2) ** 2)
-                    d[k] = rc
-                    ex[k] = (g0 * (g0 + 2.0 * a0) + g1 * (g1 + 2.0 * a1) + g2 * (g2 + 2.0 * a2)) / (rc + crho[c]) + cres[c]
-                _line_from_children(Gf, c, c + 1, cu0, cdu, cnu, cr0, cnr, ccen, crho, ccen[c], crho[c], dr_child, ea,
-                                    X0, X1, X2, d, ex, cyc_per_m, tu, tr, row, E0, E1, E2, acc2, fr_b, v_b, sn_b, cs_b,
-                                    h2, t2)
-                for k in range(ny):
-                    out[i, k] += row[k]
+                    fr_b[k] = (rc - cr0[c]) / dr_child
+                    cyc = ((g0 * (g0 + 2.0 * a0) + g1 * (g1 + 2.0 * a1) + g2 * (g2 + 2.0 * a2)) / (rc + crho[c])
+                           + cres[c]) * cyc_per_m
+                    y = np.float32(cyc - np.floor(cyc + 0.5))
+                    sn, cs = _sincos_cycles(y)
+                    sn_b[k] = sn
+                    cs_b[k] = cs
+                if ny < 2:
+                    continue
+                hb = tr.shape[1] // 2 - 1
+                j_lo = max(int(math.floor(fr_b[0])) - hb, 0)
+                j_hi = min(int(math.floor(fr_b[ny - 1])) + tr.shape[1] - hb - 1, cnr[c] - 1)
+                if j_hi < j_lo:
+                    continue
+                along = a0 * ea[0] + a1 * ea[1] + a2 * ea[2] + az[i]  # (x - c).e_a on the whole row
+                _angle_cut_row(Gf, c, cnu[c], along, cr0[c], dr_child, cu0[c], 1.0 / cdu[c], j_lo, j_hi, cp, h2, fb,
+                               s2)
+                _range_pass(fr_b, ny, h2, j_lo, j_hi, fr_b[ny - 1] - fr_b[0], tr, sn_b, cs_b, acc2, t2)
+            for k in range(ny):
+                out[i, k] = complex(acc2[2 * k], acc2[2 * k + 1])
