@@ -397,11 +397,16 @@ def _range_pass(fr_b, n, h2, j_lo, j_hi, span, tr, sn_b, cs_b, acc2, t2):
             d5 = (tr[i1, 5] - w5) * inv_m
             d6 = (tr[i1, 6] - w6) * inv_m
             d7 = (tr[i1, 7] - w7) * inv_m
-            for q in range(m2):
-                r = RAMP2[q]
-                tt[q] = ((w0 + d0 * r) * src[q] + (w1 + d1 * r) * src[q + 2] + (w2 + d2 * r) * src[q + 4]
-                         + (w3 + d3 * r) * src[q + 6] + (w4 + d4 * r) * src[q + 8] + (w5 + d5 * r) * src[q + 10]
-                         + (w6 + d6 * r) * src[q + 12] + (w7 + d7 * r) * src[q + 14])
+            if i0 == i1:  # one table row for the whole segment: constant weights
+                for q in range(m2):
+                    tt[q] = (w0 * src[q] + w1 * src[q + 2] + w2 * src[q + 4] + w3 * src[q + 6] + w4 * src[q + 8]
+                             + w5 * src[q + 10] + w6 * src[q + 12] + w7 * src[q + 14])
+            else:
+                for q in range(m2):
+                    r = RAMP2[q]
+                    tt[q] = ((w0 + d0 * r) * src[q] + (w1 + d1 * r) * src[q + 2] + (w2 + d2 * r) * src[q + 4]
+                             + (w3 + d3 * r) * src[q + 6] + (w4 + d4 * r) * src[q + 8] + (w5 + d5 * r) * src[q + 10]
+                             + (w6 + d6 * r) * src[q + 12] + (w7 + d7 * r) * src[q + 14])
         else:
             for b in range(taps):
                 src = h2[2 * (k + off - hb + b - j_lo):2 * (k + off - hb + b - j_lo) + m2]
