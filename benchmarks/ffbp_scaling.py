@@ -25,9 +25,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 
 def problem(n: int, plane: str = "ground", rows: int = 8, density: float = 0.005, seed: int = 1,
-            bright: float = 0.0):
+            bright: float = 0.0, truth: bool = True):
     """The phase history of ``density`` unit scatterers a pixel (random phases, uniformly over the
-    grid), the image grid, ``rows`` sampled rows (every n / rows-th, offset) and their truth."""
+    grid), the image grid, ``rows`` sampled rows (every n / rows-th, offset) and their truth (None
+    without ``truth``)."""
     from salkit.focus import phase_history
     from salkit.focus.exact import exact_image
     from salkit.focus.formers import ImageGrid
@@ -50,7 +51,7 @@ def problem(n: int, plane: str = "ground", rows: int = 8, density: float = 0.005
     sel = (np.arange(rows) * n) // rows + n // (2 * rows)
     ro = ig.plane.points(ig.azimuth[sel], np.zeros(sel.size))
     t0 = time.perf_counter()
-    truth = exact_image(ph.data, ph.freq, ph.positions, ph.reference_range, ro, ig.plane.range, ig.range)
+    truth = exact_image(ph.data, ph.freq, ph.positions, ph.reference_range, ro, ig.plane.range, ig.range) if truth else None
     return ph, ig, sel, truth, {"data_s": t_data, "truth_s": time.perf_counter() - t0, "scatterers": K}
 
 

@@ -7,17 +7,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-import lazy_loader as _lazy
-
 from ..constants import SPEED_OF_LIGHT
 from ..errors import SamplingError, ScenarioError
 from ..tolerances import GRID_SPACING_OF_RESOLUTION
 from ..params.models import Scenario
+from ..io.meshes import mesh_bounds
 from ..registry import FORMERS
 from .collection import (Collection, _unit, build_collection, rotation, first_null_sin, footprint, image_plane, plane_resolution,
                          processed_angle, scene_point_positions)
-
-_trimesh = _lazy.load("trimesh", suppress_warning=True)
 
 
 def scene_probe_points(scenario: Scenario) -> np.ndarray:
@@ -46,10 +43,7 @@ def scene_probe_points(scenario: Scenario) -> np.ndarray:
             s = (list(obj.size) + [obj.size[-1]] * 3)[:3] if len(obj.size) > 1 else [obj.size[0]] * 3
             lo, hi = -0.55 * np.asarray(s, np.float64), 0.55 * np.asarray(s, np.float64)
         else:
-            try:
-                lo, hi = (np.asarray(v, np.float64) for v in _trimesh.load(obj.mesh, force="mesh").bounds)
-            except Exception as err:  # noqa: BLE001 - any reader failure is a bad file
-                raise ScenarioError("scene.objects.mesh", obj.mesh, f"cannot be read as a mesh ({err})") from None
+            lo, hi = mesh_bounds(obj.mesh)
         box = (lo + hi) / 2 + c * (hi - lo) / 2
         if obj.spinning:  # any attitude it turns through: the cube about its bounding sphere
             box = c * float(np.max(np.linalg.norm(box, axis=1)))

@@ -39,8 +39,8 @@ from typing import Callable
 import lazy_loader as _lazy
 import numpy as np
 
-from ..errors import ScenarioError
 from ..geometry.collection import rotation
+from ..io.meshes import read_mesh_parts
 from ..registry import SHAPES, SURFACES
 
 _trimesh = _lazy.load("trimesh", suppress_warning=True)
@@ -234,19 +234,7 @@ def object_parts(obj) -> dict:
         parts = SHAPES.get(obj.shape).build(tuple(obj.size))
         parts = parts if isinstance(parts, dict) else {"body": parts}
     else:
-        try:
-            loaded = _trimesh.load(obj.mesh)
-        except Exception as err:  # noqa: BLE001 - any reader failure is a bad file
-            raise ScenarioError("scene.objects.mesh", obj.mesh, f"cannot be read as a mesh ({err})") from None
-        if isinstance(loaded, _trimesh.Scene):
-            parts = {}
-            for node in loaded.graph.nodes_geometry:
-                T, gname = loaded.graph[node]
-                parts[str(gname)] = loaded.geometry[gname].copy().apply_transform(T)
-        else:
-            parts = {"body": loaded}
-        if not parts or not all(len(m.faces) for m in parts.values()):
-            raise ScenarioError("scene.objects.mesh", obj.mesh, "holds no triangles")
+        parts = read_mesh_parts(obj.mesh)
     M = np.eye(4)
     M[:3, :3] = rotation(obj.attitude_deg) * obj.scale
     M[:3, 3] = obj.position
