@@ -11,23 +11,45 @@ from salkit.errors import ScenarioError
 def test_two_way_phase_difference_matches_path_theory():
     """Seed 004 geometry: 10 km, 2 um, 50 layers, Cn2 = 1e-14, 0.5 m aperture. Over an ensemble
     of paths, <(phi(u + d) - phi(u))^2> of the two-way phase = 4 x the layered one-way theory
-    sum_i 6.88 (d z_i / (R r0_i))^(5/3) (spherical-wave weighting)."""
+    sum_i 6.88 (d z_i / (R r0_i))^(5/3) (spherical-wave weighting), and the phase's variance
+    about its least-squares line across the aperture = -tr(P D P) / 2N (D the theory's
+    structure function between the N positions, P the projection that removes piston and tilt).
+
+    Both statistics are dominated by a few Gaussian modes of the whole path (tilt, then focus),
+    so one path's estimate spreads by 80-110 % of its mean however many layers it crosses (sets
+    of 40 paths gave 0.78 to 1.24 of theory): the ensemble has 160 paths and each comparison is
+    bounded by three standard errors of its own mean (from the sample, 6-9 % here) plus 3 % for
+    the screens' model, the standard errors held below 10 %. The lags stay within a quarter of
+    the 80-sample screens on the top layer (0.125 m is 16 samples), where the screens hold their
+    structure function to about 1 %; at 0.25 m (31 samples) 400 paths gave 1.12 +- 0.08 of theory
+    with these screens, and 1.06 +- 0.07 with 128-sample screens.
+    """
     R, lam, L = 1e4, 2e-6, 0.5
     u0, a = np.array([0.0, -0.6, 0.8]), np.array([1.0, 0.0, 0.0])
     u = np.linspace(-L / 2, L / 2, 101)
     pos = (R * u0)[None, :] + u[:, None] * a[None, :]
     tgt = np.zeros((1, 3))
-    lags = np.array([10, 25, 50])  # pulses: d = 0.05, 0.125, 0.25 m
-    acc = np.zeros(lags.size)
-    K = 40
+    lags = np.array([10, 25])  # pulses: d = 0.05, 0.125 m
+    V = np.vander(u, 2)
+    proj = np.eye(u.size) - V @ np.linalg.pinv(V)  # removes piston and tilt
+    K = 160
+    sf = np.zeros((K, lags.size))
+    res = np.zeros(K)
     for seed in range(K):
         path = build_path(1e-14, R, lam, 50, 80, 0.008, u0, a, seed=seed)
         phi = two_way_phases(pos, tgt, path.screens, path.z, path.origin, path.dx, path.u0, path.a, path.b)[:, 0]
         for i, g in enumerate(lags):
-            acc[i] += np.mean((phi[g:] - phi[:-g]) ** 2) / K
+            sf[seed, i] = np.mean((phi[g:] - phi[:-g]) ** 2)
+        res[seed] = np.mean((proj @ phi) ** 2)
     d = lags * (u[1] - u[0])
     theory = 4 * path.one_way_structure_function(d, R)
-    assert acc == pytest.approx(theory, rel=0.15)
+    D = 4 * path.one_way_structure_function(np.abs(u[:, None] - u[None, :]).ravel(), R).reshape(u.size, u.size)
+    theory_res = -np.trace(proj @ D @ proj) / (2 * u.size)
+    for est, th in [(sf[:, i], theory[i]) for i in range(lags.size)] + [(res, theory_res)]:
+        ratio = est / th
+        se = ratio.std(ddof=1) / np.sqrt(K)
+        assert se < 0.10, se
+        assert abs(ratio.mean() - 1.0) <= 3.0 * se + 0.03, (ratio.mean(), se)
     # the layered theory is the spherical-wave r0 of the path: 6.88 (d / r0_sph)^(5/3)
     r0_sph = r0_from_cn2(1e-14, R, lam, "spherical")
     assert path.one_way_structure_function(d, R) == pytest.approx(6.88 * (d / r0_sph) ** (5 / 3), rel=0.02)
