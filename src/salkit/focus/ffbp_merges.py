@@ -195,6 +195,16 @@ def _merge_kernel(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, dr_child, factor, o, 
                                 E1, E2, acc2, fr_b, v_b, sn_b, cs_b, h2, t2)
 
 
+@njit(cache=True, fastmath=True, inline="always", error_model="numpy")
+def _image_cycles(g0, g1, g2, a0, a1, a2, rc, rho, res, cyc_per_m):
+    """The phase k (|x - c| - rho_c) in cycles that the last step puts back on a child's value at a
+    pixel, from small quantities: g = x - o, a = o - c, rc = |x - c|, ``res`` = |o - c| - rho_c
+    (computed exactly by the caller), (x - o).((x - o) + 2 (o - c)) / (|x - c| + rho_c) + res.
+    (|x - c| and rho_c, hundreds of kilometres each, differenced directly lose a float64 rounding
+    of |x - c| at every pixel: 4.9e-4 rad rms at 560 km and 1.55 um, a -64 dB floor.)"""
+    return ((g0 * (g0 + 2.0 * a0) + g1 * (g1 + 2.0 * a1) + g2 * (g2 + 2.0 * a2)) / (rc + rho) + res) * cyc_per_m
+
+
 @njit(parallel=True, nogil=True, cache=True, fastmath=True, error_model="numpy")
 def _final_kernel(G, cu0, cdu, cnu, cr0, cnr, ccen, crho, cres, dr_child, o, ea, er, az, rg, cyc_per_m, tu, tr, out):
     """Every remaining sub-image interpolated onto the output grid (table weights), its phase
@@ -243,8 +253,7 @@ def _final_kernel(G, cu0, cdu, cnu, cr0, cnr, ccen, crho, cres, dr_child, o, ea,
                 a0 = o[0] - ccen[c, 0]
                 a1 = o[1] - ccen[c, 1]
                 a2 = o[2] - ccen[c, 2]
-                num = g0 * (g0 + 2.0 * a0) + g1 * (g1 + 2.0 * a1) + g2 * (g2 + 2.0 * a2)
-                vr, vi = _rotate(vr, vi, (num / (rc + crho[c]) + cres[c]) * cyc_per_m)
+                vr, vi = _rotate(vr, vi, _image_cycles(g0, g1, g2, a0, a1, a2, rc, crho[c], cres[c], cyc_per_m))
                 acc_r += vr
                 acc_i += vi
             out[i, j] = complex(acc_r, acc_i)
@@ -339,15 +348,20 @@ def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, cres, dr_child, o, ea, 
     centre lies on the near side of the image, which the caller checks): per child, the cut along
     the row in angle at the child's range bins (:func:`_angle_cut_row`), then that cut in range at
     every pixel (:func:`~salkit.focus.ffbp_leaves._range_pass`), its phase k (|x - c| - rho_c)
-    restored from small quantities: (x - o).((x - o) + 2 (o - c)) / (|x - c| + rho_c) + ``cres``,
-    |o - c| - rho_c computed exactly by the caller. (|x - c| and rho_c, hundreds of kilometres
-    each, differenced directly, lose a float64 rounding of |x - c| at every pixel: 4.9e-4 rad rms
-    at 560 km and 1.55 um, a -64 dB floor.) ``cp``: the angle weights' polynomials."""
+    restored from small quantities (:func:`_image_cycles`; ``cres`` = |o - c| - rho_c, computed
+    exactly by the caller). ``cp``: the angle weights' polynomials."""
     nx, ny = out.shape
     n_bins = Gf.shape[2] // 2
     n_chunks = max(1, min(nx, chunks))
     for ch in prange(n_chunks):
-        _x0, _x1, _x2, rc_b, _e0, _e1, _e2, fr_b, ex, sn_b, cs_b, acc2, t2, h2, _z = _line_scratch(ny, 2 * n_bins)
+        # a chunk's buffers: the row's bin positions, sin and cos, accumulator and range-pass buffer;
+        # the cut, its angle indices and fractions
+        fr_b = np.empty(ny)
+        sn_b = np.empty(ny, np.float32)
+        cs_b = np.empty(ny, np.float32)
+        acc2 = np.empty(2 * ny, np.float32)
+        t2 = np.empty(2 * ny, np.float32)
+        h2 = np.empty(2 * n_bins, np.float32)
         fb = np.empty(n_bins)
         s2 = np.empty(2 * n_bins, np.float32)
         for i in range(ch * nx // n_chunks, (ch + 1) * nx // n_chunks):
@@ -363,8 +377,7 @@ def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, cres, dr_child, o, ea, 
                     g2 = az[i] * ea[2] + rg[k] * er[2]
                     rc = math.sqrt((g0 + a0) ** 2 + (g1 + a1) ** 2 + (g2 + a2) ** 2)
                     fr_b[k] = (rc - cr0[c]) / dr_child
-                    cyc = ((g0 * (g0 + 2.0 * a0) + g1 * (g1 + 2.0 * a1) + g2 * (g2 + 2.0 * a2)) / (rc + crho[c])
-                           + cres[c]) * cyc_per_m
+                    cyc = _image_cycles(g0, g1, g2, a0, a1, a2, rc, crho[c], cres[c], cyc_per_m)
                     y = np.float32(cyc - np.floor(cyc + 0.5))
                     sn, cs = _sincos_cycles(y)
                     sn_b[k] = sn
