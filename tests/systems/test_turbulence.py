@@ -33,10 +33,18 @@ def test_outputs(result):
 
 
 def test_pga_restores_weak_and_medium_and_improves_strong(result):
+    """Turbulence degrades the image: the medium class's peak falls below 0.7 of the
+    turbulence-free one and its entropy rises by more than 1 (over 30 other screen seeds: peak
+    0.33-0.55, entropy +1.95 to +2.59). Its azimuth IRW is no such measure: over the same seeds
+    it ranged from 0.85 to 2.2 times the free one, below 1.3 times for 21 of the 30 (the energy
+    leaves the main lobe without always widening it). PGA then brings the weak and medium IRWs
+    within 10 % of the free one (over those seeds: weak always, to 0.2 %; medium in 29 of 30,
+    the other at 0.59)."""
     _, m = result
     ref = m["none_irw_azimuth_m"]
     assert ref == pytest.approx(m["none_irw_azimuth_theory_m"], rel=0.03)
-    assert m["medium_irw_azimuth_m"] > 1.3 * ref  # turbulence really degrades the image
+    assert m["medium_peak_amplitude"] < 0.7 * m["none_peak_amplitude"]
+    assert m["medium_entropy"] > m["none_entropy"] + 1.0
     for c in ("weak", "medium"):
         assert m[f"{c}_pga_irw_azimuth_m"] == pytest.approx(ref, rel=0.10)
     assert m["strong_pga_entropy"] < m["strong_entropy"] - 0.5  # measurably better
@@ -68,9 +76,14 @@ def wave_result(tmp_path_factory):
 def test_wave_optics_side_by_side(wave_result):
     """atmosphere.model = wave_optics runs the point target through the same screens with both
     models: the report's side-by-side table and figure, the wave-optics images, and the metrics of
-    both. Without turbulence the two are one simulation; through the weak class's screens wave
-    optics scintillates (the peak moves by more than the phase-only model's, which keeps |g| = 1)
-    and PGA still restores the azimuth IRW within 10 % of the turbulence-free one."""
+    both. Without turbulence the two are one simulation; through the weak class's screens (Rytov
+    0.41) wave optics makes another image than the phase-only model, which keeps |g| = 1 (their
+    difference carries more than a tenth of the image's energy: -3.3 to +3.0 dB over 7 screen
+    seeds), and PGA, which corrects phase only, brings the azimuth IRW within 30 % of the
+    turbulence-free one. Over 28 other screen seeds that IRW was 0.92-1.26 times the free one
+    (mean 1.05, sd 0.09; beyond 10 % for 6 of them) where the phase-only model's PGA restores it
+    to 0.2 %: the amplitude scintillation left behind widens or narrows the main lobe. (The two
+    models' peak ratios differed by less than 0.02 for 2 of 12 seeds: no test of scintillation.)"""
     out, m = wave_result
     html = (out / "report.html").read_text()
     assert "Phase screens against wave optics" in html and "ipr_classes_wave_optics.png" in html
@@ -79,8 +92,11 @@ def test_wave_optics_side_by_side(wave_result):
         assert (out / f"image_weak_wave_optics{suffix}.nc").is_file()
     assert m["none_wo_irw_azimuth_m"] == m["none_irw_azimuth_m"]
     assert m["weak_rytov_spherical"] == pytest.approx(0.41, rel=0.01)
-    assert m["weak_wo_pga_irw_azimuth_m"] == pytest.approx(m["none_irw_azimuth_m"], rel=0.10)
-    assert abs(m["weak_wo_peak_ratio"] - m["weak_peak_ratio"]) > 0.02
+    assert m["weak_wo_pga_irw_azimuth_m"] == pytest.approx(m["none_irw_azimuth_m"], rel=0.30)
+    assert m["weak_pga_irw_azimuth_m"] == pytest.approx(m["none_irw_azimuth_m"], rel=0.02)
+    po = xr.open_dataset(out / "image_weak.nc")["image"].values
+    wo = xr.open_dataset(out / "image_weak_wave_optics.nc")["image"].values
+    assert np.sum(np.abs(wo - po) ** 2) > 0.1 * np.sum(np.abs(po) ** 2)
 
 
 def test_classes_run_as_a_sweep_of_cn2(result):
