@@ -17,6 +17,14 @@ from .ffbp_leaves import (RAMP2, SEG_FRACTION, SEG_MAX, _angle_at, _line_scratch
 ANGLE_TAPS = 8
 
 
+@njit(cache=True, fastmath=True, inline="always", error_model="numpy")
+def _eight_rows(Gf, c, b0, g, n2):
+    """Child ``c``'s angle rows b0 .. b0 + 7, floats g .. g + n2 - 1 of each: the eight taps'
+    sources of an angle pass, as views."""
+    return (Gf[c, b0, g:g + n2], Gf[c, b0 + 1, g:g + n2], Gf[c, b0 + 2, g:g + n2], Gf[c, b0 + 3, g:g + n2],
+            Gf[c, b0 + 4, g:g + n2], Gf[c, b0 + 5, g:g + n2], Gf[c, b0 + 6, g:g + n2], Gf[c, b0 + 7, g:g + n2])
+
+
 @njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
 def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, cx, cy, cz, dr_child, ea0, ea1, ea2, X0, X1, X2, E0, E1, E2,
                       r_line, extra, q0, q1, q2, qq, drho, cyc_per_m, tu, tr, acc2, fr_b, v_b, sn_b, cs_b, h2, t2):
@@ -89,15 +97,7 @@ def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, cx, cy, cz, dr_child, ea0,
             inv_m = np.float32(1.0 / (e - j)) if e > j else np.float32(0.0)
             g = 2 * j
             if ANGLE_TAPS == 8:  # the eight child rows at once: one store a float
-                b0 = iu - ha
-                x0 = Gf[c, b0, g:g + m2]
-                x1 = Gf[c, b0 + 1, g:g + m2]
-                x2 = Gf[c, b0 + 2, g:g + m2]
-                x3 = Gf[c, b0 + 3, g:g + m2]
-                x4 = Gf[c, b0 + 4, g:g + m2]
-                x5 = Gf[c, b0 + 5, g:g + m2]
-                x6 = Gf[c, b0 + 6, g:g + m2]
-                x7 = Gf[c, b0 + 7, g:g + m2]
+                x0, x1, x2, x3, x4, x5, x6, x7 = _eight_rows(Gf, c, iu - ha, g, m2)
                 w0, w1, w2, w3 = tu[i0, 0], tu[i0, 1], tu[i0, 2], tu[i0, 3]
                 w4, w5, w6, w7 = tu[i0, 4], tu[i0, 5], tu[i0, 6], tu[i0, 7]
                 d0 = (tu[i1, 0] - w0) * inv_m
@@ -300,15 +300,7 @@ def _angle_cut_bins(Gf, c, nuc, fb, j_lo, m, cp, h2, s2):
             ss[2 * p] = v
             ss[2 * p + 1] = v
         g = 2 * (j_lo + q)
-        b0 = iu - ha
-        x0 = Gf[c, b0, g:g + n2]
-        x1 = Gf[c, b0 + 1, g:g + n2]
-        x2 = Gf[c, b0 + 2, g:g + n2]
-        x3 = Gf[c, b0 + 3, g:g + n2]
-        x4 = Gf[c, b0 + 4, g:g + n2]
-        x5 = Gf[c, b0 + 5, g:g + n2]
-        x6 = Gf[c, b0 + 6, g:g + n2]
-        x7 = Gf[c, b0 + 7, g:g + n2]
+        x0, x1, x2, x3, x4, x5, x6, x7 = _eight_rows(Gf, c, iu - ha, g, n2)
         for r in range(n2):  # sum_d s^d sum_b c[b, d] x_b: Horner over d
             y6 = c06 * x0[r] + c16 * x1[r] + c26 * x2[r] + c36 * x3[r] + c46 * x4[r] + c56 * x5[r] + c66 * x6[r] + c76 * x7[r]
             y5 = c05 * x0[r] + c15 * x1[r] + c25 * x2[r] + c35 * x3[r] + c45 * x4[r] + c55 * x5[r] + c65 * x6[r] + c75 * x7[r]
