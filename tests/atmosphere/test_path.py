@@ -120,9 +120,11 @@ def test_paths_of_one_seed_share_their_draws_scaled_by_r0():
     b = build_path(1e-14, *args, seed=3)
     ratio = (a.r0 / b.r0) ** (-5.0 / 6.0)
     np.testing.assert_allclose(a.screens, b.screens * ratio[:, None, None].astype(np.float32), rtol=1e-5, atol=1e-6)
-    rng = np.random.default_rng(3)  # layer by layer from one generator, as drawn at the layer's r0
-    first = phase_screens(48, 0.01, float(a.r0[0]), count=1, rng=rng, dtype=np.float32)[0]
-    np.testing.assert_allclose(a.screens[0], first, rtol=1e-5, atol=1e-5 * np.abs(first).max())
+    # all the layers in one draw from one generator (two a complex FFT), as drawn at the layer's r0
+    drawn = phase_screens(48, 0.01, float(a.r0[0]), count=4, rng=np.random.default_rng(3), dtype=np.float32)
+    for k in range(4):
+        np.testing.assert_allclose(a.screens[k] * (a.r0[k] / a.r0[0]) ** (5.0 / 6.0), drawn[k], rtol=1e-5,
+                                   atol=1e-5 * np.abs(drawn[k]).max())
     assert not np.allclose(build_path(1e-15, *args, seed=4).screens, a.screens)
     a.screens[:] = 0.0
     assert np.abs(build_path(1e-15, *args, seed=3).screens).max() > 0

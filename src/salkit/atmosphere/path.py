@@ -190,7 +190,7 @@ def screens_memory(layers: int, n: int) -> float:
 
 
 def _unit_screens(layers: int, n: int, dx: float, seed: int, outer_scale, inner_scale) -> np.ndarray:
-    """The layers' screens at r0 = 1 m, float32 (layers, n, n), drawn in turn from one generator
+    """The layers' screens at r0 = 1 m, float32 (layers, n, n), drawn together from one generator
     seeded ``seed``: kept (read-only) for the next path of the same key when seeded and within
     :data:`UNIT_SCREEN_CACHE_BYTES`, else a writable array of the caller's own."""
     key = (layers, n, dx, seed, outer_scale, inner_scale)
@@ -198,11 +198,11 @@ def _unit_screens(layers: int, n: int, dx: float, seed: int, outer_scale, inner_
     scr = cached_array(_unit_cache, _unit_lock, key) if keep else None
     if scr is not None:
         return scr
-    rng = np.random.default_rng(seed)
-    scr = np.empty((layers, n, n), np.float32)
-    for i in range(layers):
-        scr[i] = phase_screens(n, dx, 1.0, count=1, rng=rng, outer_scale=outer_scale, inner_scale=inner_scale,
-                               dtype=np.float32)[0]
+    # all the layers in one call: two screens an FFT (the real and imaginary parts of one complex
+    # field, independent) and the FFTs batched, where a call a layer threw the imaginary half away
+    # (4x faster; 0.22.0)
+    scr = phase_screens(n, dx, 1.0, count=layers, rng=np.random.default_rng(seed), outer_scale=outer_scale,
+                        inner_scale=inner_scale, dtype=np.float32)
     if keep and scr.nbytes <= UNIT_SCREEN_CACHE_BYTES:
         keep_array(_unit_cache, _unit_lock, key, scr, UNIT_SCREEN_CACHE_BYTES)
     return scr
