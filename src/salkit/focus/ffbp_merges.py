@@ -18,6 +18,15 @@ ANGLE_TAPS = 8
 
 
 @njit(cache=True, fastmath=True, inline="always", error_model="numpy")
+def _cut_bins(fr_b, n, taps, n_bins):
+    """The child range bins j_lo .. j_hi a line's cut must cover: every tap of every point's range
+    interpolation (points at bin positions ``fr_b[:n]``, increasing), within the child's
+    ``n_bins`` (j_hi < j_lo: none)."""
+    hb = taps // 2 - 1
+    return max(int(math.floor(fr_b[0])) - hb, 0), min(int(math.floor(fr_b[n - 1])) + taps - hb - 1, n_bins - 1)
+
+
+@njit(cache=True, fastmath=True, inline="always", error_model="numpy")
 def _eight_rows(Gf, c, b0, g, n2):
     """Child ``c``'s angle rows b0 .. b0 + 7, floats g .. g + n2 - 1 of each: the eight taps'
     sources of an angle pass, as views."""
@@ -62,9 +71,7 @@ def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, cx, cy, cz, dr_child, ea0,
     if n < 2:
         return
     # pass 2: the child cut along the line, on the child's range bins j_lo .. j_hi, into h2
-    hb = tr.shape[1] // 2 - 1
-    j_lo = max(int(math.floor(fr_b[0])) - hb, 0)
-    j_hi = min(int(math.floor(fr_b[n - 1])) + tr.shape[1] - hb - 1, nrc - 1)
+    j_lo, j_hi = _cut_bins(fr_b, n, tr.shape[1], nrc)
     if j_hi < j_lo:
         return
     ha = ANGLE_TAPS // 2 - 1
@@ -376,9 +383,7 @@ def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, cres, dr_child, o, ea, 
                     cs_b[k] = cs
                 if ny < 2:
                     continue
-                hb = tr.shape[1] // 2 - 1
-                j_lo = max(int(math.floor(fr_b[0])) - hb, 0)
-                j_hi = min(int(math.floor(fr_b[ny - 1])) + tr.shape[1] - hb - 1, cnr[c] - 1)
+                j_lo, j_hi = _cut_bins(fr_b, ny, tr.shape[1], cnr[c])
                 if j_hi < j_lo:
                     continue
                 along = a0 * ea[0] + a1 * ea[1] + a2 * ea[2] + az[i]  # (x - c).e_a on the whole row
