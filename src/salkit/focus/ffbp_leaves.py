@@ -64,10 +64,8 @@ def interpolation_table(taps: int, oversample: float, steps: int = TABLE_STEPS) 
 
     Parameters
     ----------
-    taps : int
-        Even number of samples, at offsets -(taps/2 - 1) .. taps/2 from the sample below t.
-    oversample : float
-        Sampling rate over the signal's bandwidth, > 1.
+    taps, oversample
+        As :func:`least_squares_weights`.
     steps : int
         Table entries per sample interval.
 
@@ -123,10 +121,16 @@ def polynomial_weights(taps: int, oversample: float, degree: int = POLY_DEGREE) 
 
 
 @njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+def _sincos_reduced(cyc):
+    """sin and cos (float32) of 2 pi ``cyc``, the cycles reduced to [-0.5, 0.5] in float64 before
+    the float32 polynomial (phases of any size stay exact): every FFBP kernel's phase."""
+    return _sincos_cycles(np.float32(cyc - np.floor(cyc + 0.5)))
+
+
+@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
 def _rotate(vr, vi, cyc):
-    """(vr + j vi) exp(j 2 pi cyc), the cycles reduced in float64 before the float32 sin/cos."""
-    y = np.float32(cyc - np.floor(cyc + 0.5))
-    s, c = _sincos_cycles(y)
+    """(vr + j vi) exp(j 2 pi cyc) (:func:`_sincos_reduced`)."""
+    s, c = _sincos_reduced(cyc)
     return vr * c - vi * s, vr * s + vi * c
 
 
@@ -215,8 +219,7 @@ def _leaf_line(prof, rp0, inv_drp, pos, ref, qrel, weight, first, count, cen, X0
                 dif = x * (1.0 - sx * (1.0 - 2.0 * sx))
                 fr_b[k] = (r_line[k] + dif - rp) * inv_drp
                 cyc = (dif - rf) * cyc_per_m
-                y = np.float32(cyc - np.floor(cyc + 0.5))
-                sn, cs = _sincos_cycles(y)
+                sn, cs = _sincos_reduced(cyc)
                 sn_b[k] = sn * wp
                 cs_b[k] = cs * wp
         else:
@@ -228,8 +231,7 @@ def _leaf_line(prof, rp0, inv_drp, pos, ref, qrel, weight, first, count, cen, X0
                 fr_b[k] = (R - rp) * inv_drp
                 dif = (q0 * E0[k] + q1 * E1[k] + q2 * E2[k] + qq) / (R + r_line[k])
                 cyc = (dif - rf) * cyc_per_m
-                y = np.float32(cyc - np.floor(cyc + 0.5))
-                sn, cs = _sincos_cycles(y)
+                sn, cs = _sincos_reduced(cyc)
                 sn_b[k] = sn * wp
                 cs_b[k] = cs * wp
         _range_pass(fr_b, n, prof[p], 0, nb - 1, fr_b[n - 1] - fr_b[0], tr, sn_b, cs_b, acc2, t2)

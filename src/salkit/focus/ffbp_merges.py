@@ -9,9 +9,8 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ..signals.phase import sincos_cycles as _sincos_cycles
 from .ffbp_leaves import (RAMP2, SEG_FRACTION, SEG_MAX, _angle_at, _line_scratch, _polar_line, _range_pass, _rotate,
-                          _segment_end)
+                          _segment_end, _sincos_reduced)
 
 #: Taps of the angular interpolation (the range one has 6).
 ANGLE_TAPS = 8
@@ -64,8 +63,7 @@ def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, cx, cy, cz, dr_child, ea0,
         # k ((|X - c_child| - rho_child) - (|X - c_line| - rho_line) + extra), from small differences
         dif = (q0 * E0[k] + q1 * E1[k] + q2 * E2[k] + qq) / (rc + r_line[k])
         cyc = (dif - drho + extra[k]) * cyc_per_m
-        y = np.float32(cyc - np.floor(cyc + 0.5))
-        sn, cs = _sincos_cycles(y)
+        sn, cs = _sincos_reduced(cyc)
         sn_b[k] = sn
         cs_b[k] = cs
     if n < 2:
@@ -377,8 +375,7 @@ def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, cres, dr_child, o, ea, 
                     rc = math.sqrt((g0 + a0) ** 2 + (g1 + a1) ** 2 + (g2 + a2) ** 2)
                     fr_b[k] = (rc - cr0[c]) / dr_child
                     cyc = _image_cycles(g0, g1, g2, a0, a1, a2, rc, crho[c], cres[c], cyc_per_m)
-                    y = np.float32(cyc - np.floor(cyc + 0.5))
-                    sn, cs = _sincos_cycles(y)
+                    sn, cs = _sincos_reduced(cyc)
                     sn_b[k] = sn
                     cs_b[k] = cs
                 if ny < 2:
