@@ -1,13 +1,14 @@
 """FFBP's merge kernels: merging by two or by four gives the image direct backprojection gives,
-the last step's angle cut along a row equals the float64 least-squares interpolation at the
-row's exact angles, and its point-by-point path equals its separable row pass."""
+the last step's angle cut along a row and its range pass along the row equal the float64
+least-squares interpolation at the row's exact angles and ranges, and its point-by-point path
+equals its separable row pass."""
 import numpy as np
 
 from salkit import focus, simulate
 from salkit.focus import phase_history
 from salkit.focus.ffbp import ffbp
 from salkit.focus.ffbp_leaves import least_squares_weights, polynomial_weights
-from salkit.focus.ffbp_merges import _angle_cut_row
+from salkit.focus.ffbp_merges import _angle_cut_row, _row_range_pass
 from salkit.focus.formers import ImageGrid
 from salkit.simulate.testbeds import wide_angle
 
@@ -71,3 +72,36 @@ def test_row_angle_cut_equals_float64_interpolation_at_the_exact_angles():
         assert np.all(got[~inside] == 0)
         err = np.abs(got - want).max() / np.abs(want[inside]).max()
         assert err < 1e-4, (along, err)
+
+
+def test_row_range_pass_equals_float64_interpolation_at_each_pixel():
+    """Pixels stepping 0.84 bins each along a row, with a little curvature (so every fraction
+    differs): each pixel's value is the 8-tap least-squares interpolation of the cut at its bin
+    position, rotated by its phase and added to what the accumulators held, against float64;
+    pixels whose taps leave the cut's bins are left alone; line lengths that leave 1 to 7
+    pixels after the groups of eight take the one-by-one path."""
+    rng = np.random.default_rng(4)
+    nb, os_ = 1200, 2.0
+    cr = polynomial_weights(8, os_)
+    j_lo, j_hi = 40, 1150
+    cut = (rng.standard_normal(j_hi + 1 - j_lo) + 1j * rng.standard_normal(j_hi + 1 - j_lo)).astype(np.complex64)
+    h2 = np.zeros(2 * nb, np.float32)
+    h2[:2 * cut.size] = cut.view(np.float32)
+    for n in (1300, 1301, 1307):
+        k = np.arange(n)
+        fr = 20.0 + 0.84 * k + 1.5e-5 * k ** 2
+        ph = rng.uniform(-np.pi, np.pi, n)
+        sn, cs = np.sin(ph).astype(np.float32), np.cos(ph).astype(np.float32)
+        are = rng.standard_normal(n).astype(np.float32)
+        aim = rng.standard_normal(n).astype(np.float32)
+        want = (are + 1j * aim).astype(np.complex128)
+        ir = np.floor(fr).astype(int)
+        inside = (ir - 3 >= j_lo) & (ir + 4 <= j_hi)
+        assert inside.sum() > 1000 and (~inside).any()
+        w = least_squares_weights(8, os_, (fr - ir)[inside])
+        rows = ir[inside, None] - j_lo + np.arange(-3, 5)[None, :]
+        want[inside] += np.sum(w * cut[rows], axis=1) * (cs[inside] + 1j * sn[inside])
+        _row_range_pass(fr, n, h2, j_lo, j_hi, cr, sn, cs, are, aim, np.empty(n, np.uint32),
+                        np.empty(n, np.float32))
+        err = np.abs(are + 1j * aim - want).max() / np.abs(cut).max()
+        assert err < 2e-5, (n, err)

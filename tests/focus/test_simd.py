@@ -1,11 +1,11 @@
-"""The eight-pixel intrinsics of the backprojection kernel's second pass: on random profiles, offsets
-and phases, each gives what the same interpolation, rotation and accumulation give written out in
+"""The eight-pixel intrinsics of the backprojection kernel's second pass and of FFBP's range pass onto
+image rows: on random profiles, offsets and phases, each gives what the same interpolation, rotation and accumulation give written out in
 numpy (float64), to float32 rounding, lanes and all (a wrong shuffle would swap pixels)."""
 import numpy as np
 from numba import njit
 
 from salkit.focus.profiles import KEYS_COEFFICIENTS, fitted_coefficients
-from salkit.focus.simd import WIDTH, linear8, taps4x8
+from salkit.focus.simd import WIDTH, linear8, taps4x8, taps8_poly7
 
 
 @njit
@@ -18,6 +18,12 @@ def _linear(pk, idx, frs, ss, cs, ore, oim):
 def _taps(pc, idx, frs, ss, cs, ore, oim, cf):
     for j in range(0, idx.size, WIDTH):
         taps4x8(pc, idx, frs, ss, cs, ore, oim, j, cf)
+
+
+@njit
+def _taps8(pc, idx, sv, ss, cs, ore, oim, cf):
+    for j in range(0, idx.size, WIDTH):
+        taps8_poly7(pc, idx, sv, ss, cs, ore, oim, j, cf)
 
 
 def _inputs(rng, n, nb):
@@ -54,3 +60,19 @@ def test_taps4x8_is_the_four_tap_kernel_rotated_and_added():
         cf = np.ascontiguousarray(coefficients, np.float32).ravel()
         _taps(padded.view(np.float32), (2 * bins).astype(np.uint32), frs, ss, cs, ore, oim, cf)
         np.testing.assert_allclose(ore + 1j * oim, want, rtol=0, atol=2e-5 * np.abs(want).max())
+
+
+def test_taps8_poly7_is_eight_taps_of_polynomial_weights_rotated_and_added():
+    """Eight complex taps from each pixel's first bin, tap b weighted by sum_d c[b, d] s^d (random
+    coefficients, so that every tap and power is distinct), the sum rotated and added."""
+    rng = np.random.default_rng(7)
+    n, nb = 64, 300
+    src = (rng.standard_normal(nb) + 1j * rng.standard_normal(nb)).astype(np.complex64)
+    cf = rng.standard_normal((8, 7)).astype(np.float32)
+    bins, frs, ss, cs, ore, oim = _inputs(rng, n, nb - 8)
+    sv = (2 * frs - 1).astype(np.float32)
+    w = np.vander(sv.astype(np.float64), 7, increasing=True) @ cf.astype(np.float64).T  # (n, 8)
+    v = sum(w[:, b] * src[bins + b] for b in range(8))
+    want = (ore + 1j * oim) + v * (cs + 1j * ss)
+    _taps8(src.view(np.float32), (2 * bins).astype(np.uint32), sv, ss, cs, ore, oim, cf.ravel())
+    np.testing.assert_allclose(ore + 1j * oim, want, rtol=0, atol=2e-5 * np.abs(want).max())

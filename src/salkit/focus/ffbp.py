@@ -294,7 +294,8 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     res = np.array([rho_residual(o, c, r) for c, r in zip(centres, rho)])
     if _rows_in_order(o, er, centres, rg):
         _final_rows(G.view(np.float32), u0, du, nu, r0, nr, centres, rho, res, dr, o, ea, er, az, rg, cyc_per_m,
-                    polynomial_weights(ANGLE_TAPS, oversample_angle), tr, img, _chunks())
+                    polynomial_weights(ANGLE_TAPS, oversample_angle), polynomial_weights(range_taps, prof.shape[1] / M),
+                    img, _chunks())
     else:
         _final_kernel(G, u0, du, nu, r0, nr, centres, rho, res, dr, o, ea, er, az, rg, cyc_per_m, tu, tr, img)
     done += 1

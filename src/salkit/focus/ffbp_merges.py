@@ -11,6 +11,7 @@ from numba import njit, prange
 
 from .ffbp_leaves import (RAMP2, SEG_FRACTION, SEG_MAX, _angle_at, _line_scratch, _polar_line, _range_pass, _rotate,
                           _segment_end, _sincos_reduced)
+from .simd import WIDTH, taps8_poly7
 
 #: Taps of the angular interpolation (the range one has 6).
 ANGLE_TAPS = 8
@@ -337,33 +338,83 @@ def _angle_cut_row(Gf, c, nuc, along, r0c, dr, u0c, inv_du, j_lo, j_hi, cp, h2, 
     _angle_cut_bins(Gf, c, nuc, fb, j_lo, m, cp, h2, s2)
 
 
+@njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
+def _row_range_pass(fr_b, n, h2, j_lo, j_hi, cr, sn_b, cs_b, acc_re, acc_im, idx, sv):
+    """Interpolate a cut (``h2``: float32 (re, im) interleaved, bins j_lo .. j_hi) in range at each
+    pixel's bin position ``fr_b`` (increasing), rotate by (cs, sn) and add to ``acc_re, acc_im``;
+    pixels whose taps leave j_lo .. j_hi are skipped. For an image row, whose pixels step about
+    one bin each, so that the fraction changes at every pixel: the weights are evaluated at each
+    pixel from their polynomials ``cr`` (taps, degree + 1) in s = 2 t - 1
+    (:func:`~salkit.focus.ffbp_leaves.polynomial_weights`), eight pixels at a time in vector
+    registers for eight taps and degree 6 (:data:`~salkit.focus.simd.taps8_poly7`), the rest one
+    by one. ``idx`` (uint32) and ``sv`` (float32) are scratch of at least ``n``.
+    """
+    taps = cr.shape[0]
+    nc = cr.shape[1]
+    hb = taps // 2 - 1
+    k_lo = 0
+    while k_lo < n and int(math.floor(fr_b[k_lo])) - hb < j_lo:
+        k_lo += 1
+    k_hi = n - 1
+    while k_hi >= k_lo and int(math.floor(fr_b[k_hi])) + taps - hb - 1 > j_hi:
+        k_hi -= 1
+    for k in range(k_lo, k_hi + 1):  # each pixel's first float and weights' argument
+        fr = fr_b[k]
+        ir = np.floor(fr)
+        idx[k] = np.uint32(2.0 * (ir - (hb + j_lo)))
+        sv[k] = np.float32(2.0 * (fr - ir) - 1.0)
+    k = k_lo
+    if taps == 8 and nc == 7:
+        cf = cr.ravel()
+        n8 = k_lo + (k_hi + 1 - k_lo) // WIDTH * WIDTH
+        for j in range(k_lo, n8, WIDTH):
+            taps8_poly7(h2, idx, sv, sn_b, cs_b, acc_re, acc_im, j, cf)
+        k = n8
+    for j in range(k, k_hi + 1):
+        s = sv[j]
+        b0 = idx[j]
+        vr = np.float32(0.0)
+        vi = np.float32(0.0)
+        for b in range(taps):
+            w = cr[b, nc - 1]
+            for d in range(nc - 2, -1, -1):
+                w = cr[b, d] + s * w
+            vr += w * h2[b0 + 2 * b]
+            vi += w * h2[b0 + 2 * b + 1]
+        acc_re[j] += vr * cs_b[j] - vi * sn_b[j]
+        acc_im[j] += vr * sn_b[j] + vi * cs_b[j]
+
+
 @njit(parallel=True, nogil=True, cache=True, fastmath=True, error_model="numpy")
-def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, cres, dr_child, o, ea, er, az, rg, cyc_per_m, cp, tr, out,
+def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, cres, dr_child, o, ea, er, az, rg, cyc_per_m, cp, cr, out,
                 chunks):
     """Every remaining sub-image interpolated onto the output grid row by row, separably (as a
     merge: a row along the range axis crosses each child's range bins in order when every child
     centre lies on the near side of the image, which the caller checks): per child, the cut along
     the row in angle at the child's range bins (:func:`_angle_cut_row`), then that cut in range at
-    every pixel (:func:`~salkit.focus.ffbp_leaves._range_pass`), its phase k (|x - c| - rho_c)
-    restored from small quantities (:func:`_image_cycles`; ``cres`` = |o - c| - rho_c, computed
-    exactly by the caller). ``cp``: the angle weights' polynomials."""
+    every pixel (:func:`_row_range_pass`), its phase k (|x - c| - rho_c) restored from small
+    quantities (:func:`_image_cycles`; ``cres`` = |o - c| - rho_c, computed exactly by the
+    caller). ``cp``, ``cr``: the angle and range weights' polynomials."""
     nx, ny = out.shape
     n_bins = Gf.shape[2] // 2
     n_chunks = max(1, min(nx, chunks))
     for ch in prange(n_chunks):
-        # a chunk's buffers: the row's bin positions, sin and cos, accumulator and range-pass buffer;
-        # the cut, its angle indices and fractions
+        # a chunk's buffers: the row's bin positions, sin and cos, accumulators, first floats and
+        # weights' arguments; the cut, its angle indices and fractions
         fr_b = np.empty(ny)
         sn_b = np.empty(ny, np.float32)
         cs_b = np.empty(ny, np.float32)
-        acc2 = np.empty(2 * ny, np.float32)
-        t2 = np.empty(2 * ny, np.float32)
+        acc_re = np.empty(ny, np.float32)
+        acc_im = np.empty(ny, np.float32)
+        idx = np.empty(ny, np.uint32)
+        sv = np.empty(ny, np.float32)
         h2 = np.empty(2 * n_bins, np.float32)
         fb = np.empty(n_bins)
         s2 = np.empty(2 * n_bins, np.float32)
         for i in range(ch * nx // n_chunks, (ch + 1) * nx // n_chunks):
-            for k in range(2 * ny):
-                acc2[k] = np.float32(0.0)
+            for k in range(ny):
+                acc_re[k] = np.float32(0.0)
+                acc_im[k] = np.float32(0.0)
             for c in range(Gf.shape[0]):
                 a0 = o[0] - ccen[c, 0]
                 a1 = o[1] - ccen[c, 1]
@@ -380,12 +431,12 @@ def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, cres, dr_child, o, ea, 
                     cs_b[k] = cs
                 if ny < 2:
                     continue
-                j_lo, j_hi = _cut_bins(fr_b, ny, tr.shape[1], cnr[c])
+                j_lo, j_hi = _cut_bins(fr_b, ny, cr.shape[0], cnr[c])
                 if j_hi < j_lo:
                     continue
                 along = a0 * ea[0] + a1 * ea[1] + a2 * ea[2] + az[i]  # (x - c).e_a on the whole row
                 _angle_cut_row(Gf, c, cnu[c], along, cr0[c], dr_child, cu0[c], 1.0 / cdu[c], j_lo, j_hi, cp, h2, fb,
                                s2)
-                _range_pass(fr_b, ny, h2, j_lo, j_hi, fr_b[ny - 1] - fr_b[0], tr, sn_b, cs_b, acc2, t2)
+                _row_range_pass(fr_b, ny, h2, j_lo, j_hi, cr, sn_b, cs_b, acc_re, acc_im, idx, sv)
             for k in range(ny):
-                out[i, k] = complex(acc2[2 * k], acc2[2 * k + 1])
+                out[i, k] = complex(acc_re[k], acc_im[k])

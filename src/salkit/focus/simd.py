@@ -200,3 +200,55 @@ def taps4x8(typingctx, pc, idx, frs, ss, cs, out_re, out_im, j, cf):
         return context.get_dummy_value()
 
     return sig, codegen
+
+
+def _taps_poly(taps: int, n_coef: int):
+    """An intrinsic for pass 2 of a ``taps``-tap interpolation (a multiple of 4) whose weights are
+    polynomials of ``n_coef`` coefficients in s: ``taps_poly(pc, idx, s, ss, cs, out_re, out_im,
+    j, cf)`` reads ``2 taps`` floats (``taps`` complex bins) at ``idx[j + l]`` of ``pc`` for the
+    eight pixels l = 0..7, weighs tap b by sum_d cf[n_coef b + d] s^d (Horner) and adds the
+    rotated sum to the accumulators."""
+    blocks = taps // 4
+
+    @intrinsic
+    def taps_poly(typingctx, pc, idx, ss_frac, ss, cs, out_re, out_im, j, cf):
+        sig = types.void(pc, idx, ss_frac, ss, cs, out_re, out_im, j, cf)
+
+        def codegen(context, builder, signature, args):
+            pcp, ip, fp, sp, cp, rp, mp, cfp = (_data(context, builder, signature.args[k], args[k])
+                                                for k in (0, 1, 2, 3, 4, 5, 6, 8))
+            jj = args[7]
+            offsets = _load(builder, ip, jj, _V8I)
+            cols = []
+            for h in range(blocks):  # eight floats (four bins) of each pixel a transpose
+                base = builder.gep(pcp, [ir.Constant(_I64, 8 * h)])
+                cols += transpose8(builder, _gather_rows(builder, base, offsets, _V8F))
+            s = _load(builder, fp, jj, _V8F)
+            vr = vi = None
+            for b in range(taps):
+                c = [_splat(builder, builder.load(builder.gep(cfp, [ir.Constant(_I64, n_coef * b + d)])))
+                     for d in range(n_coef)]
+                w = c[n_coef - 1]
+                for d in range(n_coef - 2, -1, -1):
+                    w = builder.fadd(c[d], builder.fmul(s, w))
+                r = builder.fmul(w, cols[2 * b])
+                m = builder.fmul(w, cols[2 * b + 1])
+                vr = r if vr is None else builder.fadd(vr, r)
+                vi = m if vi is None else builder.fadd(vi, m)
+            _rotate_accumulate(builder, vr, vi, sp, cp, rp, mp, jj)
+            return context.get_dummy_value()
+
+        return sig, codegen
+
+    return taps_poly
+
+
+#: Pass 2 of eight taps with degree-6 polynomial weights (FFBP's range interpolation onto image
+#: rows: :func:`salkit.focus.ffbp_merges._row_range_pass`), eight pixels at a time.
+#:
+#: Arguments ``(pc, idx, s, ss, cs, out_re, out_im, j, cf)``: ``pc`` float32[::1] the source as
+#: interleaved (re, im) floats; ``idx`` uint32[::1] each pixel's first float (its first tap);
+#: ``s`` float32[::1] the weights' argument; ``ss, cs`` the weighted sine and cosine of each
+#: pixel's phase; ``out_re, out_im`` float32[::1] accumulators; ``j`` the first of eight pixels;
+#: ``cf`` float32[::1] 8 x 7 coefficients, tap-major.
+taps8_poly7 = _taps_poly(8, 7)
