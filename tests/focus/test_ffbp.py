@@ -91,3 +91,23 @@ def test_rho_residual_restores_what_rounding_left_out():
         improved += abs(better) < abs(Fraction(rho) ** 2 - exact) / 1000
     assert improved == 20  # a thousand times closer at least, every time
     assert rho_residual(np.zeros(3), np.array([3.0, 4.0, 0.0]), 5.0) == 0.0
+
+
+def test_image_keeps_no_larger_buffer():
+    """The image is written into a spare polar-grid buffer and that buffer shrunk to it: what is
+    returned holds the image's bytes and no more (and the image is the one a fresh buffer gives:
+    tests above compare it with direct backprojection)."""
+    from salkit.focus import phase_history
+    from salkit.focus.ffbp import ffbp
+    from salkit.focus.formers import ImageGrid
+    from salkit.simulate.testbeds import wide_angle
+    tb = wide_angle(4.0, 0.5, "ground")
+    pts, amp = tb.point_targets(64, count=3)
+    ph = phase_history(tb.dataset(pts, amp))
+    ig = ImageGrid.of(ph, tb.grid(64))
+    P, M = ph.data.shape
+    img, info = ffbp(ph.data, ph.freq, ph.positions, ph.reference_range, ig, np.ones(P), np.ones(M))
+    assert info["ffbp_levels"] >= 4 and img.shape == (64, 64) and img.dtype == np.complex64
+    assert img.base is not None  # a view of the shrunk spare buffer: that path was taken
+    assert img.base.nbytes == img.nbytes
+    assert np.isfinite(img).all() and np.abs(img).max() > 0

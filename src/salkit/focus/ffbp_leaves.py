@@ -124,7 +124,7 @@ def polynomial_weights(taps: int, oversample: float, degree: int = POLY_DEGREE) 
 def _sincos_reduced(cyc):
     """sin and cos (float32) of 2 pi ``cyc``, the cycles reduced to [-0.5, 0.5] in float64 before
     the float32 polynomial (phases of any size stay exact): every FFBP kernel's phase."""
-    return _sincos_cycles(np.float32(cyc - np.floor(cyc + 0.5)))
+    return _sincos_cycles(np.float32(cyc - np.rint(cyc)))
 
 
 @njit(cache=True, inline="always", fastmath=True, error_model="numpy")
@@ -213,12 +213,14 @@ def _leaf_line(prof, rp0, inv_drp, pos, ref, qrel, weight, first, count, cen, X0
         rf = qrel[p, 4]
         wp = weight[p]
         if series:
+            rps = rp * inv_drp
+            rfc = rf * cyc_per_m
             for k in range(n):
                 x = (q0 * E0[k] + q1 * E1[k] + q2 * E2[k] + qq) * h[k]
                 sx = x * h[k]
                 dif = x * (1.0 - sx * (1.0 - 2.0 * sx))
-                fr_b[k] = (r_line[k] + dif - rp) * inv_drp
-                cyc = (dif - rf) * cyc_per_m
+                fr_b[k] = (r_line[k] + dif) * inv_drp - rps
+                cyc = dif * cyc_per_m - rfc
                 sn, cs = _sincos_reduced(cyc)
                 sn_b[k] = sn * wp
                 cs_b[k] = cs * wp
@@ -248,11 +250,11 @@ def _line_scratch(n, n_child_bins):
     """Buffers for the lines of one chunk, each at least ``n`` points long: the points X0, X1, X2
     and their ranges; E0, E1, E2; the bin fractions and angle indices (float64); sin and cos
     (float32); the interleaved accumulator and range-pass buffer (2 n float32); a child's cut
-    (``n_child_bins`` float32); a zero ``extra`` (float64)."""
+    (``n_child_bins`` float32); the points' E.e_a (float64)."""
     return (np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n),
             np.empty(n), np.empty(n), np.empty(n, np.float32), np.empty(n, np.float32),
             np.empty(2 * n, np.float32), np.empty(2 * n, np.float32), np.empty(n_child_bins, np.float32),
-            np.zeros(n))
+            np.empty(n))
 
 
 @njit(parallel=True, nogil=True, cache=True, fastmath=True, error_model="numpy")

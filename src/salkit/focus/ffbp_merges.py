@@ -35,35 +35,40 @@ def _eight_rows(Gf, c, b0, g, n2):
 
 
 @njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
-def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, cx, cy, cz, dr_child, ea0, ea1, ea2, X0, X1, X2, E0, E1, E2,
-                      r_line, extra, q0, q1, q2, qq, drho, cyc_per_m, tu, tr, acc2, fr_b, v_b, sn_b, cs_b, h2, t2):
+def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, dr_child, da, E0, E1, E2, Ea, r_line, q0, q1, q2, qq, drho,
+                      cyc_per_m, tu, tr, acc2, fr_b, v_b, sn_b, cs_b, h2, t2):
     """Add child ``c`` (baseband, interpolated, phase restored) along one parent line of points.
 
     ``Gf`` holds the children's grids as float32, (re, im) interleaved along range; ``acc2`` the
     line's accumulator, interleaved too. The parent line crosses the child's range bins in order,
     so the 2-D interpolation separates (14 taps instead of 48). Pass 1 (SIMD): every point's child
     range bin (fraction) and angle index, and the phase k (r_c - r) as float32 sin/cos after a
-    float64 reduction. Pass 2: the child cut along the line in angle at each of its own range bins
+    float64 reduction. The line's points enter as E = X - c_line, |E| = ``r_line`` and E.e_a
+    (``Ea``), the child's centre as q = 2 (c_line - c_child), qq = |q / 2|^2 and da = (q / 2).e_a:
+    |X - c_child|^2 = r_line^2 + q.E + qq, whose last two terms are the numerator of the phase's
+    small difference too (about 14 float64 operations a point where the point's own coordinates
+    took 25). Pass 2: the child cut along the line in angle at each of its own range bins
     the line crosses; pass 3: that cut interpolated in range at every point. Both run in segments
     where the fraction keeps its integer part, moves by at most ``SEG_FRACTION`` and departs from
     linear by at most ``SEG_CURVATURE``: there the weights are linear along the segment and the
     inner loops run over contiguous floats (SIMD). Points are assumed valid (the caller trims the
     line to its points in the plane).
     """
-    n = X0.shape[0]
+    n = E0.shape[0]
     inv_dr = 1.0 / dr_child
     inv_du = 1.0 / duc
+    r0s = r0c * inv_dr
+    u0s = u0c * inv_du
+    dk = drho * cyc_per_m
     T = tr.shape[0] - 1
     for k in range(n):
-        e0 = X0[k] - cx
-        e1 = X1[k] - cy
-        e2 = X2[k] - cz
-        rc = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
-        fr_b[k] = (rc - r0c) * inv_dr
-        v_b[k] = ((e0 * ea0 + e1 * ea1 + e2 * ea2) / rc - u0c) * inv_du
-        # k ((|X - c_child| - rho_child) - (|X - c_line| - rho_line) + extra), from small differences
-        dif = (q0 * E0[k] + q1 * E1[k] + q2 * E2[k] + qq) / (rc + r_line[k])
-        cyc = (dif - drho + extra[k]) * cyc_per_m
+        num = q0 * E0[k] + q1 * E1[k] + q2 * E2[k] + qq  # |X - c_child|^2 - |X - c_line|^2
+        rl = r_line[k]
+        rc = math.sqrt(rl * rl + num)
+        fr_b[k] = rc * inv_dr - r0s
+        v_b[k] = (Ea[k] + da) / rc * inv_du - u0s
+        # k ((|X - c_child| - rho_child) - (|X - c_line| - rho_line)), from small differences
+        cyc = num / (rc + rl) * cyc_per_m - dk
         sn, cs = _sincos_reduced(cyc)
         sn_b[k] = sn
         cs_b[k] = cs
@@ -138,18 +143,17 @@ def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, cx, cy, cz, dr_child, ea0,
 
 @njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
 def _line_from_children(Gf, c0, c1, cu0, cdu, cnu, cr0, cnr, ccen, crho, lcen, lrho, dr_child, ea, X0, X1, X2,
-                        r_line, extra, cyc_per_m, tu, tr, orow, E0, E1, E2, acc2, fr_b, v_b, sn_b, cs_b, h2, t2):
-    """Children c0 .. c1 - 1 summed along one line of points (a parent's polar line or an image
-    row) into ``orow``, each interpolated and moved from its baseband to the line's:
-    exp(j k ((|X - c_child| - rho_child) - (|X - c_line| - rho_line) + extra)), ``r_line`` =
-    |X - c_line|, ``extra`` 0 for a parent and |X - o| for the image (baseband about the origin
-    with rho 0, then undone). The range differences are formed from small ones:
-    |X - a|^2 - |X - b|^2 = (b - a).(2 (X - b) + (b - a)). The rest are the caller's scratch
-    (:func:`_line_scratch`), sliced here to the line: no allocation per line."""
+                        r_line, cyc_per_m, tu, tr, orow, E0, E1, E2, Ea, acc2, fr_b, v_b, sn_b, cs_b, h2, t2):
+    """Children c0 .. c1 - 1 summed along one parent's polar line of points into ``orow``, each
+    interpolated and moved from its baseband to the line's: exp(j k ((|X - c_child| - rho_child)
+    - (|X - c_line| - rho_line))), ``r_line`` = |X - c_line|. The range differences are formed
+    from small ones: |X - a|^2 - |X - b|^2 = (b - a).(2 (X - b) + (b - a)). The rest are the
+    caller's scratch (:func:`_line_scratch`), sliced here to the line: no allocation per line."""
     m = X0.shape[0]
     E0 = E0[:m]
     E1 = E1[:m]
     E2 = E2[:m]
+    Ea = Ea[:m]
     acc2 = acc2[:2 * m]
     fr_b = fr_b[:m]
     v_b = v_b[:m]
@@ -160,16 +164,17 @@ def _line_from_children(Gf, c0, c1, cu0, cdu, cnu, cr0, cnr, ccen, crho, lcen, l
         E0[k] = X0[k] - lcen[0]
         E1[k] = X1[k] - lcen[1]
         E2[k] = X2[k] - lcen[2]
+        Ea[k] = E0[k] * ea[0] + E1[k] * ea[1] + E2[k] * ea[2]
     for k in range(2 * m):
         acc2[k] = np.float32(0.0)
     for c in range(c0, c1):
         q0 = lcen[0] - ccen[c, 0]
         q1 = lcen[1] - ccen[c, 1]
         q2 = lcen[2] - ccen[c, 2]
-        _accumulate_child(Gf, c, cu0[c], cdu[c], cnu[c], cr0[c], cnr[c], ccen[c, 0], ccen[c, 1], ccen[c, 2], dr_child,
-                          ea[0], ea[1], ea[2], X0, X1, X2, E0, E1, E2, r_line, extra, 2.0 * q0, 2.0 * q1, 2.0 * q2,
-                          q0 * q0 + q1 * q1 + q2 * q2, crho[c] - lrho, cyc_per_m, tu, tr, acc2, fr_b, v_b, sn_b,
-                          cs_b, h2, t2)
+        _accumulate_child(Gf, c, cu0[c], cdu[c], cnu[c], cr0[c], cnr[c], dr_child,
+                          q0 * ea[0] + q1 * ea[1] + q2 * ea[2], E0, E1, E2, Ea, r_line, 2.0 * q0, 2.0 * q1,
+                          2.0 * q2, q0 * q0 + q1 * q1 + q2 * q2, crho[c] - lrho, cyc_per_m, tu, tr, acc2, fr_b, v_b,
+                          sn_b, cs_b, h2, t2)
     for k in range(m):
         orow[k] = complex(acc2[2 * k], acc2[2 * k + 1])
 
@@ -183,7 +188,7 @@ def _merge_kernel(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, dr_child, factor, o, 
     n_jobs = S * NU
     n_chunks = max(1, min(n_jobs, chunks))
     for ch in prange(n_chunks):
-        X0, X1, X2, rl, E0, E1, E2, fr_b, v_b, sn_b, cs_b, acc2, t2, h2, zero = _line_scratch(NR, Gf.shape[2])
+        X0, X1, X2, rl, E0, E1, E2, fr_b, v_b, sn_b, cs_b, acc2, t2, h2, Ea = _line_scratch(NR, Gf.shape[2])
         for job in range(ch * n_jobs // n_chunks, (ch + 1) * n_jobs // n_chunks):
             s = job // NU
             iu = job % NU
@@ -197,8 +202,8 @@ def _merge_kernel(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, dr_child, factor, o, 
                 continue
             _line_from_children(Gf, s * factor, min(s * factor + factor, n_child), cu0, cdu, cnu, cr0, cnr, ccen,
                                 crho, cen[s], rho[s], dr_child, ea, X0[lo:top + 1], X1[lo:top + 1], X2[lo:top + 1],
-                                rl[lo:top + 1], zero[:top + 1 - lo], cyc_per_m, tu, tr, out[s, iu, lo:top + 1], E0,
-                                E1, E2, acc2, fr_b, v_b, sn_b, cs_b, h2, t2)
+                                rl[lo:top + 1], cyc_per_m, tu, tr, out[s, iu, lo:top + 1], E0, E1, E2, Ea, acc2, fr_b,
+                                v_b, sn_b, cs_b, h2, t2)
 
 
 @njit(cache=True, fastmath=True, inline="always", error_model="numpy")
