@@ -305,8 +305,11 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
         _final_kernel(G, u0, du, nu, r0, nr, centres, rho, res, dr, o, ea, er, az, rg, cyc_per_m, tu, tr, img)
     if spare is not None:  # the image alone keeps its buffer: shrunk in place (realloc), no copy
         img = G = out = pool = None
-        spare.resize(nx * ny, refcheck=False)  # no view of it is left
-        img = spare.reshape(nx, ny)
+        try:
+            spare.resize(nx * ny)  # refused (ValueError) while any other reference or view is alive
+            img = spare.reshape(nx, ny)
+        except ValueError:
+            img = spare[:nx * ny].reshape(nx, ny).copy()
     done += 1
     if progress:
         progress(done, done)

@@ -119,11 +119,16 @@ def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, dr_child, da, E0, E1, E2, 
                 d5 = (tu[i1, 5] - w5) * inv_m
                 d6 = (tu[i1, 6] - w6) * inv_m
                 d7 = (tu[i1, 7] - w7) * inv_m
-                for q in range(m2):
-                    r = RAMP2[q]
-                    hh[q] = ((w0 + d0 * r) * x0[q] + (w1 + d1 * r) * x1[q] + (w2 + d2 * r) * x2[q]
-                             + (w3 + d3 * r) * x3[q] + (w4 + d4 * r) * x4[q] + (w5 + d5 * r) * x5[q]
-                             + (w6 + d6 * r) * x6[q] + (w7 + d7 * r) * x7[q])
+                if i0 == i1:  # one table row for the whole segment: constant weights
+                    for q in range(m2):
+                        hh[q] = (w0 * x0[q] + w1 * x1[q] + w2 * x2[q] + w3 * x3[q] + w4 * x4[q] + w5 * x5[q]
+                                 + w6 * x6[q] + w7 * x7[q])
+                else:
+                    for q in range(m2):
+                        r = RAMP2[q]
+                        hh[q] = ((w0 + d0 * r) * x0[q] + (w1 + d1 * r) * x1[q] + (w2 + d2 * r) * x2[q]
+                                 + (w3 + d3 * r) * x3[q] + (w4 + d4 * r) * x4[q] + (w5 + d5 * r) * x5[q]
+                                 + (w6 + d6 * r) * x6[q] + (w7 + d7 * r) * x7[q])
             else:
                 for q in range(m2):
                     hh[q] = np.float32(0.0)
