@@ -7,10 +7,21 @@ import numpy as np
 from numba import njit
 
 
+#: sin(pi y) = y (S1 + y^2 (S3 + y^2 (S5 + y^2 S7))) and cos(pi y) = C0 + y^2 (C2 + ...) on
+#: |y| <= 1/2: minimax (equal-ripple) coefficients, float32, found by Lawson's iteratively reweighted
+#: least squares on 40001 points, errors 5.9e-7 and 4.7e-8 (the Taylor series' terms to the same
+#: degrees err by 1e-4 and 1e-5).
+SIN_PI = (3.1415820121765137, -5.167142868041992, 2.5418992042541504, -0.5546366572380066)
+COS_PI = (0.9999999403953552, -4.934792995452881, 4.058412075042725, -1.3318802118301392, 0.21969687938690186)
+
+
 @njit(cache=True, inline="always", fastmath=True)
 def sincos_cycles(y):
-    """sin and cos of 2 pi y for y in [-0.5, 0.5] cycles, float32 polynomial (|error| < 1.5e-5): the
+    """sin and cos of 2 pi y for y in [-0.5, 0.5] cycles, float32 polynomial (|error| < 4e-6): the
     argument is reduced to cycles in float64 by the caller, so phases of any size stay exact.
+
+    sin and cos of the half angle pi y from minimax polynomials (:data:`SIN_PI`, :data:`COS_PI`),
+    then the double angle: twelve float32 operations.
 
     Parameters
     ----------
@@ -22,13 +33,13 @@ def sincos_cycles(y):
     (float32, float32)
         sin, cos.
     """
-    t = np.float32(math.pi) * y  # in [-pi/2, pi/2]
-    t2 = t * t
-    s = t * (np.float32(1.0) + t2 * (np.float32(-1.0 / 6.0) + t2 * (np.float32(1.0 / 120.0) + t2 * (
-        np.float32(-1.0 / 5040.0) + t2 * np.float32(1.0 / 362880.0)))))
-    c = np.float32(1.0) + t2 * (np.float32(-0.5) + t2 * (np.float32(1.0 / 24.0) + t2 * (
-        np.float32(-1.0 / 720.0) + t2 * (np.float32(1.0 / 40320.0) + t2 * np.float32(-1.0 / 3628800.0)))))
-    return np.float32(2.0) * s * c, np.float32(1.0) - np.float32(2.0) * s * s
+    y2 = y * y
+    s = y * (np.float32(SIN_PI[0]) + y2 * (np.float32(SIN_PI[1]) + y2 * (np.float32(SIN_PI[2])
+                                                                          + y2 * np.float32(SIN_PI[3]))))
+    c = np.float32(COS_PI[0]) + y2 * (np.float32(COS_PI[1]) + y2 * (np.float32(COS_PI[2]) + y2 * (
+        np.float32(COS_PI[3]) + y2 * np.float32(COS_PI[4]))))
+    s2 = s + s
+    return s2 * c, np.float32(1.0) - s2 * s
 
 
 def wrap(phase):
