@@ -196,7 +196,7 @@ form_bp = register_former(
     accuracy={"standard": Accuracy(f"{BP_DEFAULT_UPSAMPLE}x profiles, fitted taps", -80.0,
                                    "-87.1 to -88.7 dB measured"),
               "high": Accuracy(f"{BP_DEFAULT_HIGH_UPSAMPLE}x profiles, fitted taps", -90.0,
-                               "-97.3 to -98.9 dB measured; for interferometry")},
+                               "-97.5 to -99.1 dB measured; for interferometry")},
     upsample={"standard": BP_DEFAULT_UPSAMPLE, "high": BP_DEFAULT_HIGH_UPSAMPLE},
 )(_form_default)
 

@@ -40,7 +40,7 @@ Accuracy knobs: ``oversample_angle`` and ``oversample_range`` (samples per Nyqui
 the polar grids), ``range_taps`` and ``leaf`` (pulses backprojected directly into each
 first-level sub-image). Defaults (1.75, 2.0, 8, 16): -56.1 to -61 dB image error against the exact
 matched filter on the test geometries (:mod:`salkit.simulate.testbeds`), not growing with the
-collection (1024^2 to 8192^2 pixels and pulses); :data:`ACCURATE` (3.0, 2.5): -67.0 to -74.6 dB.
+collection (1024^2 to 8192^2 pixels and pulses); :data:`ACCURATE` (3.0, 2.5): -71.0 to -76.1 dB.
 docs/performance.md gives the accuracy-speed curve.
 """
 from __future__ import annotations
@@ -59,7 +59,7 @@ from .formers import Accuracy, ImageGrid, ImageResult, Sizes, register_former
 from .phasehistory import PhaseHistory
 from ..tolerances import BP_UPSAMPLE
 
-#: Default accuracy settings (image error -56.5 to -61 dB against the exact matched filter).
+#: Default accuracy settings (image error -56.6 to -61.1 dB against the exact matched filter).
 LEAF_PULSES = 16
 #: Sub-images merged into each parent (4: fewer levels than 2, the same accuracy; the last merge is by 2).
 MERGE_FACTOR = 4
@@ -69,7 +69,7 @@ OVERSAMPLE_RANGE = 2.0
 SERIES = True
 #: Taps of the merges' range interpolation.
 RANGE_TAPS = 8
-#: The accuracy setting (``processing.accuracy = "high"``): -67.0 to -74.6 dB against the exact
+#: The accuracy setting (``processing.accuracy = "high"``): -71.0 to -76.1 dB against the exact
 #: matched filter on the accuracy benchmark's geometries (-69 to -71 dB at 1024^2 to 8192^2 on the
 #: wide-angle arc), about 1.5x the default's time.
 ACCURATE = {"oversample_angle": 3.0, "oversample_range": 2.5}
@@ -380,9 +380,9 @@ TILE_OVERLAP = 16
     modes=("spotlight",), tracks="any", phase_reference="aperture_centre", tiles=True, tile_overlap=TILE_OVERLAP,
     blocks=ffbp_blocks, memory=ffbp_memory,
     accuracy={"standard": Accuracy("polar grids oversampled 1.75 (angle), 2.0 (range)", -55.0,
-                                   "-56.5 to -61 dB measured, bright-pixel phase p99 < 1 deg"),
+                                   "-56.6 to -61.1 dB measured, bright-pixel phase p99 < 1 deg"),
               "high": Accuracy("oversampled 3.0 (angle), 2.5 (range), about 1.5x the time", -65.0,
-                               "-67.0 to -74.6 dB measured")})
+                               "-71.0 to -76.1 dB measured")})
 def form_ffbp(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = BP_UPSAMPLE,
               accuracy: str = "standard", progress=None) -> ImageResult:
     """Fast factorised backprojection (the ``ffbp`` former), normalised as ``bp``.
