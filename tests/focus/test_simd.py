@@ -76,3 +76,17 @@ def test_taps8_poly7_is_eight_taps_of_polynomial_weights_rotated_and_added():
     want = (ore + 1j * oim) + v * (cs + 1j * ss)
     _taps8(src.view(np.float32), (2 * bins).astype(np.uint32), sv, ss, cs, ore, oim, cf.ravel())
     np.testing.assert_allclose(ore + 1j * oim, want, rtol=0, atol=2e-5 * np.abs(want).max())
+
+
+def test_wide_vectors_follows_numbas_target():
+    """The target's features as numba compiles for them: AVX-512 off in NUMBA_CPU_FEATURES (what
+    benchmarks/avx2.py sets) reads as AVX2 code whatever the host."""
+    import os
+    import subprocess
+    import sys
+    code = "from salkit.focus.simd import wide_vectors; print(wide_vectors())"
+    env = dict(os.environ, NUMBA_CPU_NAME="znver3", NUMBA_CPU_FEATURES="+avx,+avx2,+fma,+sse4.2,-avx512f")
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
+    from salkit.focus.simd import wide_vectors
+    assert isinstance(wide_vectors(), bool)

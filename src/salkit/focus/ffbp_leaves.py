@@ -121,10 +121,29 @@ def polynomial_weights(taps: int, oversample: float, degree: int = POLY_DEGREE) 
 
 
 @njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+def _reduced(cyc):
+    """The phase ``cyc`` (cycles, float64) reduced to [-0.5, 0.5] in float64, as float32: what
+    a first pass stores for :func:`_sincos_pass`."""
+    return np.float32(cyc - np.rint(cyc))
+
+
+@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
 def _sincos_reduced(cyc):
     """sin and cos (float32) of 2 pi ``cyc``, the cycles reduced to [-0.5, 0.5] in float64 before
-    the float32 polynomial (phases of any size stay exact): every FFBP kernel's phase."""
-    return _sincos_cycles(np.float32(cyc - np.rint(cyc)))
+    the float32 polynomial (phases of any size stay exact): the point-by-point last step's phase."""
+    return _sincos_cycles(_reduced(cyc))
+
+
+@njit(cache=True, inline="always", fastmath=True, error_model="numpy")
+def _sincos_pass(sn_b, cs_b, n, w):
+    """sin and cos (times ``w``) of the reduced phases ``sn_b[:n]`` (:func:`_reduced`), in place
+    into ``sn_b`` and ``cs_b``: a loop of its own, float32 throughout, so that it runs at the
+    float32 vector width (twice the float64 one of the first passes that store the phases) and
+    without their float64 constants in registers (AVX2 has 16)."""
+    for k in range(n):
+        s, c = _sincos_cycles(sn_b[k])
+        sn_b[k] = s * w
+        cs_b[k] = c * w
 
 
 @njit(cache=True, inline="always", fastmath=True, error_model="numpy")
@@ -220,10 +239,7 @@ def _leaf_line(prof, rp0, inv_drp, pos, ref, qrel, weight, first, count, cen, X0
                 sx = x * h[k]
                 dif = x * (1.0 - sx * (1.0 - 2.0 * sx))
                 fr_b[k] = (r_line[k] + dif) * inv_drp - rps
-                cyc = dif * cyc_per_m - rfc
-                sn, cs = _sincos_reduced(cyc)
-                sn_b[k] = sn * wp
-                cs_b[k] = cs * wp
+                sn_b[k] = _reduced(dif * cyc_per_m - rfc)
         else:
             for k in range(n):
                 e0 = X0[k] - px
@@ -232,10 +248,8 @@ def _leaf_line(prof, rp0, inv_drp, pos, ref, qrel, weight, first, count, cen, X0
                 R = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
                 fr_b[k] = (R - rp) * inv_drp
                 dif = (q0 * E0[k] + q1 * E1[k] + q2 * E2[k] + qq) / (R + r_line[k])
-                cyc = (dif - rf) * cyc_per_m
-                sn, cs = _sincos_reduced(cyc)
-                sn_b[k] = sn * wp
-                cs_b[k] = cs * wp
+                sn_b[k] = _reduced((dif - rf) * cyc_per_m)
+        _sincos_pass(sn_b, cs_b, n, wp)
         _range_pass(fr_b, n, prof[p], 0, nb - 1, fr_b[n - 1] - fr_b[0], tr, sn_b, cs_b, acc2, t2)
 
 

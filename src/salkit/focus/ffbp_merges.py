@@ -9,12 +9,18 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .ffbp_leaves import (RAMP2, SEG_FRACTION, SEG_MAX, _angle_at, _line_scratch, _polar_line, _range_pass, _rotate,
-                          _segment_end, _sincos_reduced)
-from .simd import WIDTH, taps8_poly7
+from .ffbp_leaves import (RAMP2, SEG_FRACTION, SEG_MAX, _angle_at, _line_scratch, _polar_line, _range_pass, _reduced,
+                          _rotate, _segment_end, _sincos_pass, _sincos_reduced)
+from .simd import WIDTH, taps8_poly7, wide_vectors
 
 #: Taps of the angular interpolation (the range one has 6).
 ANGLE_TAPS = 8
+
+#: The merges' first pass computes its points' sin and cos in the same loop as their float64
+#: geometry with AVX-512 code, where they overlap the square root's and divisions' latency (a
+#: merge 4 % faster than in two loops), and in a float32 loop of their own with AVX2 code, whose
+#: 16 registers the fused loop spills (10 % faster in two loops).
+FUSED_SINCOS = wide_vectors()
 
 
 @njit(cache=True, fastmath=True, inline="always", error_model="numpy")
@@ -32,6 +38,17 @@ def _eight_rows(Gf, c, b0, g, n2):
     sources of an angle pass, as views."""
     return (Gf[c, b0, g:g + n2], Gf[c, b0 + 1, g:g + n2], Gf[c, b0 + 2, g:g + n2], Gf[c, b0 + 3, g:g + n2],
             Gf[c, b0 + 4, g:g + n2], Gf[c, b0 + 5, g:g + n2], Gf[c, b0 + 6, g:g + n2], Gf[c, b0 + 7, g:g + n2])
+
+
+@njit(cache=True, fastmath=True, inline="always", error_model="numpy")
+def _child_point(k, E0, E1, E2, Ea, r_line, q0, q1, q2, qq, da, inv_dr, r0s, inv_du, u0s, cyc_per_m, dk):
+    """A line's point k against a child (:func:`_accumulate_child`'s first pass): its child range
+    bin and angle index, and the phase k ((|X - c_child| - rho_child) - (|X - c_line| - rho_line))
+    in cycles, from small differences."""
+    num = q0 * E0[k] + q1 * E1[k] + q2 * E2[k] + qq  # |X - c_child|^2 - |X - c_line|^2
+    rl = r_line[k]
+    rc = math.sqrt(rl * rl + num)
+    return rc * inv_dr - r0s, (Ea[k] + da) / rc * inv_du - u0s, num / (rc + rl) * cyc_per_m - dk
 
 
 @njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
@@ -61,17 +78,17 @@ def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, dr_child, da, E0, E1, E2, 
     u0s = u0c * inv_du
     dk = drho * cyc_per_m
     T = tr.shape[0] - 1
-    for k in range(n):
-        num = q0 * E0[k] + q1 * E1[k] + q2 * E2[k] + qq  # |X - c_child|^2 - |X - c_line|^2
-        rl = r_line[k]
-        rc = math.sqrt(rl * rl + num)
-        fr_b[k] = rc * inv_dr - r0s
-        v_b[k] = (Ea[k] + da) / rc * inv_du - u0s
-        # k ((|X - c_child| - rho_child) - (|X - c_line| - rho_line)), from small differences
-        cyc = num / (rc + rl) * cyc_per_m - dk
-        sn, cs = _sincos_reduced(cyc)
-        sn_b[k] = sn
-        cs_b[k] = cs
+    if FUSED_SINCOS:
+        for k in range(n):
+            fr_b[k], v_b[k], cyc = _child_point(k, E0, E1, E2, Ea, r_line, q0, q1, q2, qq, da, inv_dr, r0s, inv_du,
+                                                u0s, cyc_per_m, dk)
+            sn_b[k], cs_b[k] = _sincos_reduced(cyc)
+    else:
+        for k in range(n):
+            fr_b[k], v_b[k], cyc = _child_point(k, E0, E1, E2, Ea, r_line, q0, q1, q2, qq, da, inv_dr, r0s, inv_du,
+                                                u0s, cyc_per_m, dk)
+            sn_b[k] = _reduced(cyc)
+        _sincos_pass(sn_b, cs_b, n, np.float32(1.0))
     if n < 2:
         return
     # pass 2: the child cut along the line, on the child's range bins j_lo .. j_hi, into h2
@@ -435,10 +452,8 @@ def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, cres, dr_child, o, ea, 
                     g2 = az[i] * ea[2] + rg[k] * er[2]
                     rc = math.sqrt((g0 + a0) ** 2 + (g1 + a1) ** 2 + (g2 + a2) ** 2)
                     fr_b[k] = (rc - cr0[c]) / dr_child
-                    cyc = _image_cycles(g0, g1, g2, a0, a1, a2, rc, crho[c], cres[c], cyc_per_m)
-                    sn, cs = _sincos_reduced(cyc)
-                    sn_b[k] = sn
-                    cs_b[k] = cs
+                    sn_b[k] = _reduced(_image_cycles(g0, g1, g2, a0, a1, a2, rc, crho[c], cres[c], cyc_per_m))
+                _sincos_pass(sn_b, cs_b, ny, np.float32(1.0))
                 if ny < 2:
                     continue
                 j_lo, j_hi = _cut_bins(fr_b, ny, cr.shape[0], cnr[c])

@@ -30,6 +30,25 @@ _V8I = ir.VectorType(_I32, 8)
 WIDTH = 8
 
 
+def wide_vectors() -> bool:
+    """Whether numba's code on this machine is AVX-512 (32 vector registers of 16 floats) rather
+    than AVX2 (16 of 8): the target's features as numba's code generator holds them, the host's
+    or ``NUMBA_CPU_FEATURES``. Kernels whose best loop structure differs between the two read it
+    once, at import, as a constant (numba's cache is keyed by the target too).
+
+    Returns
+    -------
+    bool
+    """
+    try:
+        from numba.core.registry import cpu_target
+        features = cpu_target.target_context.codegen()._tm_features  # what numba compiles for
+    except Exception:  # pragma: no cover - a numba without that attribute: the host's features
+        import llvmlite.binding as llvm
+        return bool(llvm.get_host_cpu_features().get("avx512f", False))
+    return "+avx512f" in features.split(",")
+
+
 def _data(context, builder, aty, aval):
     return context.make_array(aty)(context, builder, aval).data
 
