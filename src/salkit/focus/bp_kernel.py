@@ -74,7 +74,7 @@ SEGMENT = 16
 LANES = np.arange(SEGMENT, dtype=np.float32) - np.float32((SEGMENT - 1) / 2)
 
 #: The fast path's phase error budget, cycles (1.9e-5 rad: an error floor near -94 dB, beside the
-#: float32 sin/cos polynomial's 2.8e-6): the bound on the Taylor step's truncation and float32 rounding
+#: float32 sin/cos polynomial's 4.3e-6): the bound on the Taylor step's truncation and float32 rounding
 #: (:func:`segment_fits`) must stay under it, or the line takes the exact float64 path.
 SEGMENT_TOLERANCE = 3.0e-6
 

@@ -15,8 +15,10 @@ and the caller keeps ``j + 8 <= len(idx)`` and every offset plus the bins read i
 """
 from __future__ import annotations
 
+import llvmlite.binding as llvm
 import llvmlite.ir as ir
 from numba import types
+from numba.core.registry import cpu_target
 from numba.extending import intrinsic
 
 _F32 = ir.FloatType()
@@ -40,11 +42,8 @@ def wide_vectors() -> bool:
     -------
     bool
     """
-    try:
-        from numba.core.registry import cpu_target
-        features = cpu_target.target_context.codegen()._tm_features  # what numba compiles for
-    except Exception:  # pragma: no cover - a numba without that attribute: the host's features
-        import llvmlite.binding as llvm
+    features = getattr(cpu_target.target_context.codegen(), "_tm_features", None)  # what numba compiles for
+    if features is None:  # pragma: no cover - a numba without that attribute: the host's features
         return bool(llvm.get_host_cpu_features().get("avx512f", False))
     return "+avx512f" in features.split(",")
 

@@ -58,7 +58,7 @@ def eps_of_db(accuracy_db: float) -> float:
 
 
 #: Accuracy settings (dB) at or above which the coefficients' sine and cosine come from the float32
-#: polynomial (:func:`salkit.signals.phase.sincos_cycles`, error below 4e-6: about -110 dB).
+#: polynomial (:func:`salkit.signals.phase.sincos_cycles`, error below 5e-6: about -106 dB).
 FAST_TRIG_DB = -90.0
 
 
@@ -95,7 +95,7 @@ def applies(scenario, delays: tuple[float, float], fast_time: np.ndarray) -> str
 def _coefficients(pos, ref, bore, scat, amp_re, amp_im, t0, dt, n_half, f0, k, table, dsin,
                   scr, scr_z, scr_org, scr_dx, u0, ax_a, ax_b, gain, c_out, x_out, fast_trig):
     """One pulse's NUFFT coefficients and points (the phase in cycles reduced in float64; its sine
-    and cosine by the float32 polynomial, error below 4e-6, when ``fast_trig``)."""
+    and cosine by the float32 polynomial, error below 5e-6, when ``fast_trig``)."""
     S = scat.shape[0]
     for s in range(S):
         dx = scat[s, 0] - pos[0]
