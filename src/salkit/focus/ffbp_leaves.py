@@ -339,6 +339,21 @@ def _segment_end(f0, f_at_e, f_at_mid, chord, floor0, floor_e):
             and abs(f_at_mid - chord) <= SEG_CURVATURE)
 
 
+@njit(cache=True, fastmath=True, inline="always", error_model="numpy")
+def _tap_range(fr_b, n, taps, j_lo, j_hi):
+    """The first and last of the points at bin positions ``fr_b[:n]`` (increasing) whose ``taps``
+    taps (bins ir - taps/2 + 1 .. ir + taps/2 around ir) all lie within j_lo .. j_hi (k_hi < k_lo:
+    none)."""
+    hb = taps // 2 - 1
+    k_lo = 0
+    while k_lo < n and int(math.floor(fr_b[k_lo])) - hb < j_lo:
+        k_lo += 1
+    k_hi = n - 1
+    while k_hi >= k_lo and int(math.floor(fr_b[k_hi])) + taps - hb - 1 > j_hi:
+        k_hi -= 1
+    return k_lo, k_hi
+
+
 @njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
 def _range_pass(fr_b, n, h2, j_lo, j_hi, span, tr, sn_b, cs_b, acc2, t2):
     """Interpolate a line's source (float32 (re, im) interleaved, bins j_lo .. j_hi) in range at
@@ -351,12 +366,7 @@ def _range_pass(fr_b, n, h2, j_lo, j_hi, span, tr, sn_b, cs_b, acc2, t2):
     T = tr.shape[0] - 1
     taps = tr.shape[1]
     hb = taps // 2 - 1
-    k_lo = 0
-    while k_lo < n and int(math.floor(fr_b[k_lo])) - hb < j_lo:
-        k_lo += 1
-    k_hi = n - 1
-    while k_hi >= k_lo and int(math.floor(fr_b[k_hi])) + taps - hb - 1 > j_hi:
-        k_hi -= 1
+    k_lo, k_hi = _tap_range(fr_b, n, taps, j_lo, j_hi)
     if abs(span - (n - 1)) > 0.01 * (n - 1):  # not one bin per point (an image row): point by point
         for k in range(k_lo, k_hi + 1):
             fr = fr_b[k]

@@ -10,7 +10,7 @@ import numpy as np
 from numba import njit, prange
 
 from .ffbp_leaves import (RAMP2, SEG_FRACTION, SEG_MAX, _angle_at, _line_scratch, _polar_line, _range_pass, _reduced,
-                          _rotate, _segment_end, _sincos_pass, _sincos_reduced)
+                          _rotate, _segment_end, _sincos_pass, _sincos_reduced, _tap_range)
 from .simd import WIDTH, taps8_poly7, wide_vectors
 
 #: Taps of the angular interpolation (the range one has 6).
@@ -379,12 +379,7 @@ def _row_range_pass(fr_b, n, h2, j_lo, j_hi, cr, sn_b, cs_b, acc_re, acc_im, idx
     taps = cr.shape[0]
     nc = cr.shape[1]
     hb = taps // 2 - 1
-    k_lo = 0
-    while k_lo < n and int(math.floor(fr_b[k_lo])) - hb < j_lo:
-        k_lo += 1
-    k_hi = n - 1
-    while k_hi >= k_lo and int(math.floor(fr_b[k_hi])) + taps - hb - 1 > j_hi:
-        k_hi -= 1
+    k_lo, k_hi = _tap_range(fr_b, n, taps, j_lo, j_hi)
     for k in range(k_lo, k_hi + 1):  # each pixel's first float and weights' argument
         fr = fr_b[k]
         ir = np.floor(fr)

@@ -171,55 +171,6 @@ def linear8(typingctx, pc, idx, frs, ss, cs, out_re, out_im, j):
     return sig, codegen
 
 
-@intrinsic
-def taps4x8(typingctx, pc, idx, frs, ss, cs, out_re, out_im, j, cf):
-    """Pass 2 of a four-tap interpolation (weights cubic in the fraction) for pixels ``j .. j+7``.
-
-    Called from numba code (the arguments are numba values; ``typingctx`` is numba's).
-
-    Parameters
-    ----------
-    pc : float32[::1]
-        Profile as interleaved (re, im) floats, one bin of padding before and two after.
-    idx : uint32[::1]
-        Offset in ``pc`` of each pixel's first tap (2 x (bin - 1) + 2 = 2 x bin).
-    frs, ss, cs : float32[::1]
-        Fraction t between bins, weighted sine and cosine of the pixel's phase.
-    out_re, out_im : float32[::1]
-        Accumulators.
-    j : int64
-    cf : float32[::1]
-        16 coefficients, tap-major: tap k (bins -1, 0, 1, 2) weighs sum_d cf[4 k + d] t^d.
-
-    Returns
-    -------
-    none
-    """
-    sig = types.void(pc, idx, frs, ss, cs, out_re, out_im, j, cf)
-
-    def codegen(context, builder, signature, args):
-        pcp, ip, fp, sp, cp, rp, mp, cfp = (_data(context, builder, signature.args[k], args[k])
-                                            for k in (0, 1, 2, 3, 4, 5, 6, 8))
-        jj = args[7]
-        rows = _gather_rows(builder, pcp, _load(builder, ip, jj, _V8I), _V8F)
-        cols = transpose8(builder, rows)  # re, im of tap -1, then 0, 1, 2
-        t = _load(builder, fp, jj, _V8F)
-        vr = vi = None
-        for k in range(4):
-            c = [_splat(builder, builder.load(builder.gep(cfp, [ir.Constant(_I64, 4 * k + d)]))) for d in range(4)]
-            w = builder.fadd(c[2], builder.fmul(t, c[3]))
-            w = builder.fadd(c[1], builder.fmul(t, w))
-            w = builder.fadd(c[0], builder.fmul(t, w))
-            r = builder.fmul(w, cols[2 * k])
-            m = builder.fmul(w, cols[2 * k + 1])
-            vr = r if vr is None else builder.fadd(vr, r)
-            vi = m if vi is None else builder.fadd(vi, m)
-        _rotate_accumulate(builder, vr, vi, sp, cp, rp, mp, jj)
-        return context.get_dummy_value()
-
-    return sig, codegen
-
-
 def _taps_poly(taps: int, n_coef: int):
     """An intrinsic for pass 2 of a ``taps``-tap interpolation (a multiple of 4) whose weights are
     polynomials of ``n_coef`` coefficients in s: ``taps_poly(pc, idx, s, ss, cs, out_re, out_im,
@@ -259,6 +210,18 @@ def _taps_poly(taps: int, n_coef: int):
         return sig, codegen
 
     return taps_poly
+
+
+#: Pass 2 of a four-tap interpolation (weights cubic in the fraction) for pixels ``j .. j+7``:
+#: the backprojection kernel's Keys cubic and fitted taps (:mod:`salkit.focus.bp_kernel`).
+#:
+#: Arguments ``(pc, idx, frs, ss, cs, out_re, out_im, j, cf)``: ``pc`` float32[::1] the profile as
+#: interleaved (re, im) floats, one bin of padding before and two after; ``idx`` uint32[::1] each
+#: pixel's first tap (2 x (bin - 1) + 2 = 2 x bin); ``frs, ss, cs`` float32[::1] the fraction t
+#: between bins and the weighted sine and cosine of the pixel's phase; ``out_re, out_im``
+#: float32[::1] accumulators; ``cf`` float32[::1] 16 coefficients, tap-major: tap k (bins -1, 0, 1,
+#: 2) weighs sum_d cf[4 k + d] t^d.
+taps4x8 = _taps_poly(4, 4)
 
 
 #: Pass 2 of eight taps with degree-6 polynomial weights (FFBP's range interpolation onto image
