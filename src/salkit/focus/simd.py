@@ -126,7 +126,7 @@ def _rotate_accumulate(builder, vr, vi, sp, cp, rp, mp, j):
 
 @intrinsic
 def linear8(typingctx, pc, idx, frs, ss, cs, out_re, out_im, j):
-    """Pass 2 of linear interpolation for pixels ``j .. j+7``.
+    """Pass 2 of linear interpolation for the eight pixels ``j`` to ``j + 7``.
 
     Called from numba code (the arguments are numba values; ``typingctx`` is numba's).
 
@@ -212,8 +212,9 @@ def _taps_poly(taps: int, n_coef: int):
     return taps_poly
 
 
-#: Pass 2 of a four-tap interpolation (weights cubic in the fraction) for pixels ``j .. j+7``:
-#: the backprojection kernel's Keys cubic and fitted taps (:mod:`salkit.focus.bp_kernel`).
+#: Pass 2 of a four-tap interpolation (weights cubic in the fraction) for the eight pixels ``j``
+#: to ``j + 7``: the backprojection kernel's Keys cubic and fitted taps
+#: (:mod:`salkit.focus.bp_kernel`).
 #:
 #: Arguments ``(pc, idx, frs, ss, cs, out_re, out_im, j, cf)``: ``pc`` float32[::1] the profile as
 #: interleaved (re, im) floats, one bin of padding before and two after; ``idx`` uint32[::1] each
