@@ -35,6 +35,8 @@ CASES = [
     ("wide4_level_ground_501", lambda t: t.wide_angle(4.0, 0.0, "ground", n=501), 501, 4),
     ("wide4_climb_slant_501", lambda t: t.wide_angle(4.0, 0.5, "slant", n=501), 501, 4),
     ("wide10_climb_ground_501", lambda t: t.wide_angle(10.0, 0.5, "ground", n=501), 501, 4),
+    ("wide30_climb_ground_501", lambda t: t.wide_angle(30.0, 0.5, "ground", n=501), 501, 8),
+    ("wide60_climb_slant_501", lambda t: t.wide_angle(60.0, 0.5, "slant", n=501), 501, 8),
     ("seed_5km_256", lambda t: t.seed("5km", 256), 256, 2),
     ("seed_200km_256", lambda t: t.seed("200km", 256), 256, 2),
     ("seed_560km_256", lambda t: t.seed("560km", 256), 256, 2),

@@ -19,6 +19,10 @@ GEOMETRIES = {
     "wide4_climb_ground": (lambda n: wide_angle(4.0, 0.5, "ground"), 101),
     "wide4_climb_slant": (lambda n: wide_angle(4.0, 0.5, "slant"), 101),
     "wide10_climb_ground": (lambda n: wide_angle(10.0, 0.5, "ground"), 101),
+    # the widest arcs, their pulses thinned to what the 101^2 grid needs (the truth's time): where
+    # the sub-images' range spectrum widens (salkit.focus.ffbp.range_widening)
+    "wide30_climb_ground": (lambda n: wide_angle(30.0, 0.5, "ground", pulses=512), 101),
+    "wide60_climb_slant": (lambda n: wide_angle(60.0, 0.5, "slant", pulses=1024), 101),
     "seed_5km": (lambda n: seed("5km", n), 96),
     "seed_200km": (lambda n: seed("200km", n), 96),
     "seed_560km": (lambda n: seed("560km", n), 96),
@@ -59,7 +63,7 @@ def form(alg, name, extent=1.0, **kw):
 
 #: Each level's geometries: every one at "standard"; at "high" (slower) those where the margin is least.
 HIGH = {"bp": ["wide4_climb_ground", "seed_560km"], "bp_fitted": ["seed_560km"],
-        "ffbp": ["wide4_climb_ground", "wide4_climb_slant", "seed_5km", "seed_560km"]}
+        "ffbp": ["wide4_climb_ground", "wide4_climb_slant", "wide30_climb_ground", "seed_5km", "seed_560km"]}
 #: The declared promises (salkit.registry.FORMERS), every former that makes one, held here.
 PROMISES = [(n, level, g) for n, spec in FORMERS.items() for level, acc in spec.accuracy.items()
             if acc.error_db is not None for g in (GEOMETRIES if level == "standard" else HIGH.get(n, GEOMETRIES))]

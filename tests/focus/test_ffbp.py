@@ -6,7 +6,12 @@ import pytest
 
 from salkit import focus, measure, simulate
 from salkit.errors import ScenarioError
+from salkit.focus.ffbp import _tree, polar_tangent, range_widening
+from salkit.focus.ffbp_leaves import _polar_line
+from salkit.focus.formers import ImageGrid
+from salkit.geometry.collection import grid_axes
 from salkit.params import parse_scenario
+from salkit.simulate.testbeds import seed, wide_angle
 
 from ..conftest import GEO, SPOT, STRIP, merge
 
@@ -111,3 +116,45 @@ def test_image_keeps_no_larger_buffer():
     assert img.base is not None  # a view of the shrunk spare buffer: that path was taken
     assert img.base.nbytes == img.nbytes
     assert np.isfinite(img).all() and np.abs(img).max() > 0
+
+
+def _widening(tb, n):
+    grid = tb.grid(n)
+    ig = ImageGrid(tb.image_plane(), *grid_axes(grid), grid)
+    pos = tb.positions
+    return range_widening(_tree(pos, np.ones(pos.shape[0], np.float32), 16, 4), pos, ig, tb.frequency)
+
+
+def test_polar_tangent_follows_the_kernels_polar_lines():
+    """dx/dr of polar_tangent against central differences along the lines the kernels build
+    (ffbp_leaves._polar_line), over a ground plane 7.3 km below (where the lines bend) and a slant
+    plane, at direction cosines across a wide beam."""
+    for plane in ("ground", "slant"):
+        tb = wide_angle(30.0, 0.5, plane, pulses=64)
+        pl = tb.image_plane()
+        o, ea, er = (np.ascontiguousarray(v, np.float64) for v in (pl.origin, pl.azimuth, pl.range))
+        c = tb.positions[20]
+        dr, n = 0.05, 400
+        r0 = float(np.linalg.norm(o - c)) - 10.0
+        for u in (-0.3, 0.0, 0.12, 0.4):
+            X0, X1, X2, rl = (np.empty(n) for _ in range(4))
+            lo, top = _polar_line(o, ea, er, c, r0, dr, n, u, X0, X1, X2, rl)
+            assert top - lo > 10
+            X = np.stack([X0, X1, X2], axis=1)[lo:top + 1]
+            fd = (X[2:] - X[:-2]) / (2.0 * dr)
+            t = polar_tangent(X[1:-1], c, ea, er)
+            assert np.allclose(t, fd, rtol=0, atol=1e-6)
+            assert np.allclose(((X - c) @ ea) / np.linalg.norm(X - c, axis=1), u)  # the line's u
+
+
+def test_range_widening_grows_with_the_aperture():
+    """A short straight aperture keeps the pulse's band (the seed geometry at 5 km); over a wide
+    arc the sub-images' range spectrum spreads (first order: parallax and curvature against the
+    range; second: 1 - cos of the angle the pulses subtend), more on a ground plane far below
+    than on the slant plane, and with the arc."""
+    assert _widening(seed("5km", 64), 64) < 1.001
+    ground = [_widening(wide_angle(a, 0.5, "ground", pulses=int(16 * a)), 101) for a in (4.0, 10.0, 30.0, 60.0)]
+    slant = [_widening(wide_angle(a, 0.5, "slant", pulses=int(16 * a)), 101) for a in (4.0, 10.0, 30.0, 60.0)]
+    assert np.all(np.diff(ground) > 0) and np.all(np.diff(slant) > 0)
+    assert ground[0] < 1.03 and ground[2] > 1.3 and ground[3] > 3.0
+    assert all(g > s for g, s in zip(ground[1:], slant[1:]))

@@ -175,6 +175,141 @@ def _lengths(positions: np.ndarray, groups: list, centres: np.ndarray, ea: np.nd
     return out
 
 
+def _tree(positions: np.ndarray, w: np.ndarray, leaf: int, factor: int) -> list:
+    """The factorisation's levels, leaves first: each level's pulse spans, centres (the leaves'
+    their pulses' mean, a parent's its children's weighted by the window) and window weights, and
+    the number of children merged into each of its sub-apertures (None for the leaves: ``factor``
+    while more than ``factor`` remain, then 2), until two sub-apertures remain."""
+    P = positions.shape[0]
+    spans = [(a, min(a + leaf, P)) for a in range(0, P, leaf)]
+    weights = np.array([max(float(w[a:b].sum()), 1e-30) for a, b in spans])
+    centres = np.array([positions[a:b].mean(axis=0) for a, b in spans])
+    levels = [(spans, centres, weights, None)]
+    while len(spans) > 2:
+        S = len(spans)
+        f = factor if S > factor else 2
+        parents = [(i, min(i + f, S)) for i in range(0, S, f)]
+        spans = [(spans[a][0], spans[b - 1][1]) for a, b in parents]
+        pw = np.array([weights[a:b].sum() for a, b in parents])
+        centres = np.array([(centres[a:b] * weights[a:b, None]).sum(axis=0) / pw[k]
+                            for k, (a, b) in enumerate(parents)])
+        weights = pw
+        levels.append((spans, centres, weights, f))
+    return levels
+
+
+def _scene_points(grid: ImageGrid, n: int = 9) -> np.ndarray:
+    """The image's edge (:func:`_image_boundary`) and an ``n`` x ``n`` lattice inside it, (K, 3)."""
+    a = np.linspace(grid.azimuth[0], grid.azimuth[-1], n)
+    g = np.linspace(grid.range[0], grid.range[-1], n)
+    A, R = np.meshgrid(a, g, indexing="ij")
+    return np.concatenate([_image_boundary(grid), grid.plane.points(A.ravel(), R.ravel())])
+
+
+def polar_tangent(x: np.ndarray, centre: np.ndarray, ea: np.ndarray, er: np.ndarray) -> np.ndarray:
+    """dx/dr along the polar lines through the plane points ``x``: the lines of constant direction
+    cosine u = (x - C).e_a / r from ``centre`` C, r = |x - C|, in the plane spanned by e_a and e_r.
+
+    Along such a line (x - C).e_a = u r moves by u dr and (x - C).e_r by r (1 - u^2) / ((x - C).e_r)
+    dr, so dx/dr = u e_a + r (1 - u^2) / ((x - C).e_r) e_r (a unit vector only where the line is
+    straight: a line over a plane below the centre bends as its depression falls).
+
+    Parameters
+    ----------
+    x : float64 (K, 3)
+        Plane points, m.
+    centre : float64 (3,)
+        m.
+    ea, er : float64 (3,)
+        The plane's unit azimuth and range axes.
+
+    Returns
+    -------
+    float64 (K, 3)
+        Metres of x a metre of r.
+
+    Examples
+    --------
+    >>> ea, er = np.array([1.0, 0, 0]), np.array([0, 1.0, 0])
+    >>> polar_tangent(np.array([[0.0, 5.0, 0.0]]), np.array([0.0, 0.0, 0.0]), ea, er).tolist()
+    [[0.0, 1.0, 0.0]]
+    """
+    d = x - centre
+    r = np.linalg.norm(d, axis=1)
+    u = d @ ea / r
+    dg = np.maximum(d @ er, 1e-9 * r)  # the polar lines run away from the centre along e_r
+    return u[:, None] * ea + (r * (1.0 - u * u) / dg)[:, None] * er
+
+
+def range_widening(levels: list, positions: np.ndarray, grid: ImageGrid, freq: np.ndarray,
+                   n_pulses: int = 17) -> float:
+    """How much wider than the pulse's band the sub-images' range spectrum is, where they are
+    interpolated in range: the factor by which the polar grids' range sampling must exceed the
+    pulse band's to keep their oversampling.
+
+    A sub-image at baseband, g(x) = v(x) exp(-j k |x - c|), holds each pulse p's echo at phase
+    k_f |x - p| - k |x - c| (k_f = 4 pi f / c, k at the band's reference frequency). A merge
+    interpolates a child in its range r_c = |x - c| along its parent's polar line (and the last
+    step along the image's rows), where that phase moves at (2 f / c) D - 2 f_c / c cycles a metre
+    of r_c, D = (dR_p/ds) / (dr_c/ds) along the line (dx/ds = u e_a + r (1 - u^2) / ((x - C).e_r)
+    e_r for the polar line from the parent's centre C at direction cosine u; e_r along a row).
+    D is 1 where the sub-apertures are short against their range; over a wide aperture it departs
+    from 1 in first order by the parallax between the child's pulses and the line's centre and by
+    the aperture's curvature, and in second order by the angle its pulses subtend (1 - cos), so the
+    spectrum spreads past the band's edges (at X band on a 30-degree arc at 7 km over a ground
+    plane, by half). The largest half-width over every child of every merge and the last step, at
+    the scene's edge and on a lattice inside it, for up to ``n_pulses`` pulses of each child (its
+    ends among them), over the pulse's half-band (at least 1).
+
+    Parameters
+    ----------
+    levels : list
+        :func:`_tree`'s levels.
+    positions : float64 (P, 3)
+        Antenna positions, m.
+    grid : ImageGrid
+    freq : float64 (M,)
+        Frequencies, Hz, increasing and uniform (the baseband's reference is ``freq[M // 2]``).
+    n_pulses : int
+        Pulses sampled in each sub-aperture.
+
+    Returns
+    -------
+    float
+        The widening factor, >= 1.
+    """
+    c = SPEED_OF_LIGHT
+    k_lo, k_hi, k_c = 2.0 * float(freq[0]) / c, 2.0 * float(freq[-1]) / c, 2.0 * float(freq[freq.size // 2]) / c
+    half = max(k_c - k_lo, k_hi - k_c)
+    if half <= 0.0:
+        return 1.0
+    x = _scene_points(grid)
+    ea, er = grid.plane.azimuth, grid.plane.range
+    bounds = [1.0, 1.0]
+
+    def child(span, cen, t):
+        """D's extremes for the pulses of one child against the direction(s) t (K, 3) of the line
+        it is interpolated along at each scene point."""
+        a, b = span
+        p = positions[np.unique(np.linspace(a, b - 1, min(n_pulses, b - a)).round().astype(np.int64))]
+        uc = x - cen
+        drc = np.einsum("kj,kj->k", uc, t) / np.linalg.norm(uc, axis=1)
+        v = x[None, :, :] - p[:, None, :]
+        D = np.einsum("pkj,kj->pk", v, t) / np.linalg.norm(v, axis=2) / np.maximum(drc, 1e-9)
+        bounds[0], bounds[1] = min(bounds[0], float(D.min())), max(bounds[1], float(D.max()))
+
+    for (cspans, ccen, _, _), (_, pcen, _, f) in zip(levels[:-1], levels[1:]):
+        for k, C in enumerate(pcen):
+            t = polar_tangent(x, C, ea, er)
+            for i in range(k * f, min(k * f + f, len(cspans))):
+                child(cspans[i], ccen[i], t)
+    spans, cen, _, _ = levels[-1]
+    for i in range(len(spans)):  # the last step: along the image's rows
+        child(spans[i], cen[i], np.broadcast_to(er, x.shape))
+    edges = [k * dd - k_c for k in (k_lo, k_hi) for dd in bounds]
+    return max(1.0, max(abs(e) for e in edges) / half)
+
+
 def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.ndarray, grid: ImageGrid,
          azimuth_window: np.ndarray, range_window: np.ndarray, leaf: int = LEAF_PULSES, factor: int = MERGE_FACTOR,
          oversample_angle: float = OVERSAMPLE_ANGLE, oversample_range: float = OVERSAMPLE_RANGE,
@@ -217,27 +352,28 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     lam_min = c / float(freq[-1])
     f_c = float(freq[M // 2])
     cyc_per_m = 2.0 * f_c / c
+    w = np.asarray(azimuth_window, np.float32)
+    levels = _tree(positions, w, leaf, factor)
     # range profiles sampled at the polar grids' range spacing (at least oversample_range per
-    # resolution cell): a polar line then moves one profile bin per point
-    prof, rp0, dr, _ = range_profiles(ph, freq, oversample_range, np.asarray(range_window, np.float64))
+    # resolution cell, and per the sub-images' range spectrum where a wide aperture widens it): a
+    # polar line then moves one profile bin per point
+    widen = range_widening(levels, positions, grid, freq)
+    prof, rp0, dr, _ = range_profiles(ph, freq, oversample_range * widen, np.asarray(range_window, np.float64))
     plane = grid.plane
     o = np.ascontiguousarray(plane.origin, np.float64)
     ea = np.ascontiguousarray(plane.azimuth, np.float64)
     er = np.ascontiguousarray(plane.range, np.float64)
     step = float(np.median(np.linalg.norm(np.diff(positions, axis=0), axis=1))) if P > 1 else 0.0
     tu = interpolation_table(ANGLE_TAPS, oversample_angle)
-    tr = interpolation_table(range_taps, prof.shape[1] / M)
+    # the leaves read the pulses' profiles (the pulse's band); the merges and the last step the
+    # sub-images (their band widened by ``widen``)
+    os_sub = prof.shape[1] / M / widen
+    tr = interpolation_table(range_taps, os_sub)
     tl = interpolation_table(LEAF_TAPS, prof.shape[1] / M)
-    w = np.asarray(azimuth_window, np.float32)
     # level 0: leaves of `leaf` pulses
-    groups = [(a, min(a + leaf, P)) for a in range(0, P, leaf)]
-    weights = np.array([max(float(w[a:b].sum()), 1e-30) for a, b in groups])
-    centres = np.array([positions[a:b].mean(axis=0) for a, b in groups])
+    groups, centres, _, _ = levels[0]
     lengths = _lengths(positions, groups, centres, ea, step)
-    n_levels, S = 2, len(groups)  # leaves, merges, final
-    while S > 2:
-        S = -(-S // (factor if S > factor else 2))
-        n_levels += 1
+    n_levels = len(levels) + 1  # leaves, merges, final
     done = 0
     u0, du, nu, r0, nr = _polar_grids(centres, lengths, grid, lam_min, dr, oversample_angle)
     # two buffers used in turn by the levels (one read, one written): their pages are faulted in
@@ -269,21 +405,14 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     if progress:
         progress(done, n_levels)
     # merge `factor` at a time, the last merge by two, until two sub-images remain for the final step
-    spans = list(groups)
-    while G.shape[0] > 2:
-        S = G.shape[0]
-        f_level = factor if S > factor else 2
-        parents = [(i, min(i + f_level, S)) for i in range(0, S, f_level)]
-        spans = [(spans[a][0], spans[b - 1][1]) for a, b in parents]
-        pw = np.array([weights[a:b].sum() for a, b in parents])
-        pcen = np.array([(centres[a:b] * weights[a:b, None]).sum(axis=0) / pw[k] for k, (a, b) in enumerate(parents)])
+    for spans, pcen, _, f_level in levels[1:]:
         plen = _lengths(positions, spans, pcen, ea, step)
         pu0, pdu, pnu, pr0, pnr = _polar_grids(pcen, plen, grid, lam_min, dr, oversample_angle)
-        out = grid_buffer(done, (len(parents), int(pnu.max()), int(pnr.max())))
+        out = grid_buffer(done, (len(spans), int(pnu.max()), int(pnr.max())))
         prho = np.linalg.norm(pcen - o, axis=1)
         _merge_kernel(G.view(np.float32), u0, du, nu, r0, nr, centres, rho, dr, f_level, o, ea, er, pcen, prho, pu0,
                       pdu, pnu, pr0, dr, pnr, cyc_per_m, tu, tr, out, _chunks())
-        G, centres, weights, rho = out, pcen, pw, prho
+        G, centres, rho = out, pcen, prho
         u0, du, nu, r0, nr = pu0, pdu, pnu, pr0, pnr
         samples.append(int((nu * nr).sum()))
         done += 1
@@ -299,7 +428,7 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     res = np.array([rho_residual(o, c, r) for c, r in zip(centres, rho)])
     if _rows_in_order(o, er, centres, rg):
         _final_rows(G.view(np.float32), u0, du, nu, r0, nr, centres, rho, res, dr, o, ea, er, az, rg, cyc_per_m,
-                    polynomial_weights(ANGLE_TAPS, oversample_angle), polynomial_weights(range_taps, prof.shape[1] / M),
+                    polynomial_weights(ANGLE_TAPS, oversample_angle), polynomial_weights(range_taps, os_sub),
                     img, _chunks())
     else:
         _final_kernel(G, u0, du, nu, r0, nr, centres, rho, res, dr, o, ea, er, az, rg, cyc_per_m, tu, tr, img)
@@ -313,7 +442,8 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     done += 1
     if progress:
         progress(done, done)
-    return img, {"ffbp_levels": done, "ffbp_leaf_pulses": leaf, "ffbp_polar_samples": int(np.mean(samples))}
+    return img, {"ffbp_levels": done, "ffbp_leaf_pulses": leaf, "ffbp_polar_samples": int(np.mean(samples)),
+                 "ffbp_range_widening": round(widen, 4)}
 
 
 def ffbp_blocks(pulses, grid: ImageGrid, window: Window, ranges, upsample: int, accuracy: str):
