@@ -1,6 +1,6 @@
 """The image formers against the exact float64 matched filter (the truth former), on the
 geometries users bring (:mod:`salkit.simulate.testbeds`): wide-angle airborne X band (level and
-climbing arcs, ground and slant planes, scenes inside and three times larger than the grid), the
+climbing arcs of 4 to 60 degrees, ground and slant planes, scenes inside and three times larger than the grid), the
 seed geometries at 1.55 um (5 km, 200 km, 560 km) and a curved track. Error energy
 sum |I - T|^2 / sum |T|^2 of speckled scenes (1 % of the scatterers 30 times brighter), and the
 phase of the bright pixels."""

@@ -35,3 +35,25 @@ def test_small_grid_in_large_speckled_scene():
     assert _corr(bp, folded) < 0.8
     ext = illuminated_extent(ph.freq, ph.positions, pl, ph.real_aperture)
     assert 3.0 < ext["azimuth"] < 4.5 and 3.0 < ext["range"] < 5.5
+
+
+def test_aperture_wider_than_the_band_allows_is_refused_with_the_numbers():
+    """Over a 60-degree arc the X-band pulses' annuli share no range frequencies (their direction
+    cosines along range span a ratio of 1.069 in size, the band's frequencies 1.067): a
+    ScenarioError naming both, not an IndexError from an empty K-space rectangle. A 30-degree arc
+    is formed."""
+    import pytest
+    from salkit.errors import ScenarioError
+    from salkit.focus.formers import ImageGrid, get_former
+    from salkit.signals.windows import Window
+    from salkit.simulate.testbeds import wide_angle
+    for arc, ok in ((30.0, True), (60.0, False)):
+        tb = wide_angle(arc, 0.5, "slant", pulses=256)
+        pts, amp = tb.speckle(32, extent=1.0, density=0.05, seed=1)
+        ph = phase_history(tb.dataset(pts, amp))
+        ig = ImageGrid.of(ph, tb.grid(32))
+        if ok:
+            assert np.isfinite(get_former("pfa")(ph, ig, Window("none")).image).all()
+        else:
+            with pytest.raises(ScenarioError, match=r"share no band of range frequencies.* ratio of 1\.06[89].* ratio of 1\.067"):
+                get_former("pfa")(ph, ig, Window("none"))

@@ -30,6 +30,16 @@ there and cost half the step), so each bin's weights come from the kernel's poly
 fraction (``polynomial_weights``, degree 6, within 1e-5 of the float64 weights), in runs of one
 integer angle index, over contiguous floats.
 
+Range sampling: a sub-image at baseband holds each pulse's echo at range frequency
+(2 f / c) D - 2 f_c / c along the lines it is interpolated on, D the rate of the pulse's range
+against the sub-image's (:func:`range_widening`). D is 1 for a short sub-aperture; over a wide
+arc the parallax between the pulses and the line's centre, the aperture's curvature and the angle
+its pulses subtend spread the spectrum past the pulse's band (by 3 % on the 4-degree arc at
+4096^2, 80 % on a 30-degree arc over a ground plane, 4x on a 60-degree one), so the polar grids
+are sampled in range at ``oversample_range`` times the widest sub-image band, not the pulse's
+(before 0.24.0 a 30-degree arc over a ground plane imaged at -34 dB against the exact matched
+filter, a 60-degree one at -6 dB; now -59.4 dB both).
+
 Precision: sub-images are at baseband about |x - c| - rho_c, rho_c = |c - o| (o the scene
 centre), and every phase is formed from small differences (|x - a| - |x - b| =
 (b - a).(2 (x - b) + (b - a)) / (|x - a| + |x - b|)), never from two ranges of hundreds of
@@ -39,8 +49,9 @@ kilometres each rounded to 6e-11 m. Each polar grid keeps :data:`MARGIN_ANGLE` a
 Accuracy knobs: ``oversample_angle`` and ``oversample_range`` (samples per Nyquist interval of
 the polar grids), ``range_taps`` and ``leaf`` (pulses backprojected directly into each
 first-level sub-image). Defaults (1.75, 2.0, 8, 16): -56.1 to -61 dB image error against the exact
-matched filter on the test geometries (:mod:`salkit.simulate.testbeds`), not growing with the
-collection (1024^2 to 8192^2 pixels and pulses); :data:`ACCURATE` (3.0, 2.5): -71.0 to -76.1 dB.
+matched filter on the test geometries (:mod:`salkit.simulate.testbeds`, arcs of 4 to 60 degrees
+among them), not growing with the collection (1024^2 to 8192^2 pixels and pulses); :data:`ACCURATE`
+(3.0, 2.5): -70.0 to -77.2 dB.
 docs/performance.md gives the accuracy-speed curve.
 """
 from __future__ import annotations
@@ -59,7 +70,7 @@ from .formers import Accuracy, ImageGrid, ImageResult, Sizes, register_former
 from .phasehistory import PhaseHistory
 from ..tolerances import BP_UPSAMPLE
 
-#: Default accuracy settings (image error -56.6 to -61.1 dB against the exact matched filter).
+#: Default accuracy settings (image error -57.2 to -61.0 dB against the exact matched filter).
 LEAF_PULSES = 16
 #: Sub-images merged into each parent (4: fewer levels than 2, the same accuracy; the last merge is by 2).
 MERGE_FACTOR = 4
@@ -69,7 +80,7 @@ OVERSAMPLE_RANGE = 2.0
 SERIES = True
 #: Taps of the merges' range interpolation.
 RANGE_TAPS = 8
-#: The accuracy setting (``processing.accuracy = "high"``): -71.0 to -76.1 dB against the exact
+#: The accuracy setting (``processing.accuracy = "high"``): -70.0 to -77.2 dB against the exact
 #: matched filter on the accuracy benchmark's geometries (-69 to -71 dB at 1024^2 to 8192^2 on the
 #: wide-angle arc), about 1.5x the default's time.
 ACCURATE = {"oversample_angle": 3.0, "oversample_range": 2.5}
@@ -198,12 +209,13 @@ def _tree(positions: np.ndarray, w: np.ndarray, leaf: int, factor: int) -> list:
     return levels
 
 
-def _scene_points(grid: ImageGrid, n: int = 9) -> np.ndarray:
-    """The image's edge (:func:`_image_boundary`) and an ``n`` x ``n`` lattice inside it, (K, 3)."""
+def _scene_points(grid: ImageGrid, n: int = 5, n_edge: int = 16) -> np.ndarray:
+    """``n_edge`` points a side on the image's edge (:func:`_image_boundary`) and an ``n`` x ``n``
+    lattice inside it, (K, 3)."""
     a = np.linspace(grid.azimuth[0], grid.azimuth[-1], n)
     g = np.linspace(grid.range[0], grid.range[-1], n)
     A, R = np.meshgrid(a, g, indexing="ij")
-    return np.concatenate([_image_boundary(grid), grid.plane.points(A.ravel(), R.ravel())])
+    return np.concatenate([_image_boundary(grid, n_edge), grid.plane.points(A.ravel(), R.ravel())])
 
 
 def polar_tangent(x: np.ndarray, centre: np.ndarray, ea: np.ndarray, er: np.ndarray) -> np.ndarray:
@@ -218,14 +230,14 @@ def polar_tangent(x: np.ndarray, centre: np.ndarray, ea: np.ndarray, er: np.ndar
     ----------
     x : float64 (K, 3)
         Plane points, m.
-    centre : float64 (3,)
-        m.
+    centre : float64 (3,) or (S, 1, 3)
+        m (several: the lines of each, (S, K, 3)).
     ea, er : float64 (3,)
         The plane's unit azimuth and range axes.
 
     Returns
     -------
-    float64 (K, 3)
+    float64 (K, 3) or (S, K, 3)
         Metres of x a metre of r.
 
     Examples
@@ -235,14 +247,14 @@ def polar_tangent(x: np.ndarray, centre: np.ndarray, ea: np.ndarray, er: np.ndar
     [[0.0, 1.0, 0.0]]
     """
     d = x - centre
-    r = np.linalg.norm(d, axis=1)
+    r = np.linalg.norm(d, axis=-1)
     u = d @ ea / r
     dg = np.maximum(d @ er, 1e-9 * r)  # the polar lines run away from the centre along e_r
-    return u[:, None] * ea + (r * (1.0 - u * u) / dg)[:, None] * er
+    return u[..., None] * ea + (r * (1.0 - u * u) / dg)[..., None] * er
 
 
 def range_widening(levels: list, positions: np.ndarray, grid: ImageGrid, freq: np.ndarray,
-                   n_pulses: int = 17) -> float:
+                   n_pulses: int = 9) -> float:
     """How much wider than the pulse's band the sub-images' range spectrum is, where they are
     interpolated in range: the factor by which the polar grids' range sampling must exceed the
     pulse band's to keep their oversampling.
@@ -257,7 +269,7 @@ def range_widening(levels: list, positions: np.ndarray, grid: ImageGrid, freq: n
     from 1 in first order by the parallax between the child's pulses and the line's centre and by
     the aperture's curvature, and in second order by the angle its pulses subtend (1 - cos), so the
     spectrum spreads past the band's edges (at X band on a 30-degree arc at 7 km over a ground
-    plane, by half). The largest half-width over every child of every merge and the last step, at
+    plane, by 80 %). The largest half-width over every child of every merge and the last step, at
     the scene's edge and on a lattice inside it, for up to ``n_pulses`` pulses of each child (its
     ends among them), over the pulse's half-band (at least 1).
 
@@ -285,27 +297,29 @@ def range_widening(levels: list, positions: np.ndarray, grid: ImageGrid, freq: n
         return 1.0
     x = _scene_points(grid)
     ea, er = grid.plane.azimuth, grid.plane.range
-    bounds = [1.0, 1.0]
-
-    def child(span, cen, t):
-        """D's extremes for the pulses of one child against the direction(s) t (K, 3) of the line
-        it is interpolated along at each scene point."""
-        a, b = span
-        p = positions[np.unique(np.linspace(a, b - 1, min(n_pulses, b - a)).round().astype(np.int64))]
-        uc = x - cen
-        drc = np.einsum("kj,kj->k", uc, t) / np.linalg.norm(uc, axis=1)
-        v = x[None, :, :] - p[:, None, :]
-        D = np.einsum("pkj,kj->pk", v, t) / np.linalg.norm(v, axis=2) / np.maximum(drc, 1e-9)
-        bounds[0], bounds[1] = min(bounds[0], float(D.min())), max(bounds[1], float(D.max()))
-
-    for (cspans, ccen, _, _), (_, pcen, _, f) in zip(levels[:-1], levels[1:]):
-        for k, C in enumerate(pcen):
-            t = polar_tangent(x, C, ea, er)
-            for i in range(k * f, min(k * f + f, len(cspans))):
-                child(cspans[i], ccen[i], t)
-    spans, cen, _, _ = levels[-1]
-    for i in range(len(spans)):  # the last step: along the image's rows
-        child(spans[i], cen[i], np.broadcast_to(er, x.shape))
+    lo, hi = 1.0, 1.0
+    # (children, their lines' centres): each merge's children along their parent's polar lines, the
+    # last level's sub-apertures along the image's rows (a centre of None)
+    work = [(cl, pl[1][np.arange(len(cl[0])) // pl[3]]) for cl, pl in zip(levels[:-1], levels[1:])]
+    work.append((levels[-1], None))
+    frac = np.linspace(0.0, 1.0, n_pulses)
+    for (spans, centres, _, _), line_centres in work:
+        ab = np.asarray(spans, np.float64)
+        pulses = np.rint(ab[:, :1] + (ab[:, 1:] - 1.0 - ab[:, :1]) * frac).astype(np.int64)  # (S, n), ends included
+        for s0 in range(0, len(spans), 64):  # blocks of children: bounded temporaries
+            sl = slice(s0, min(s0 + 64, len(spans)))
+            p = positions[pulses[sl]]  # (S, n, 3)
+            if line_centres is None:
+                t = np.broadcast_to(er, (p.shape[0],) + x.shape)
+            else:
+                t = polar_tangent(x, line_centres[sl][:, None, :], ea, er)  # (S, K, 3)
+            uc = x - centres[sl][:, None, :]
+            drc = np.einsum("skj,skj->sk", uc, t) / np.sqrt(np.einsum("skj,skj->sk", uc, uc))
+            v = x[None, None] - p[:, :, None]  # (S, n, K, 3)
+            D = (np.einsum("snkj,skj->snk", v, t) / np.sqrt(np.einsum("snkj,snkj->snk", v, v))
+                 / np.maximum(drc, 1e-9)[:, None])
+            lo, hi = min(lo, float(D.min())), max(hi, float(D.max()))
+    bounds = (lo, hi)
     edges = [k * dd - k_c for k in (k_lo, k_hi) for dd in bounds]
     return max(1.0, max(abs(e) for e in edges) / half)
 
@@ -510,9 +524,9 @@ TILE_OVERLAP = 16
     modes=("spotlight",), tracks="any", phase_reference="aperture_centre", tiles=True, tile_overlap=TILE_OVERLAP,
     blocks=ffbp_blocks, memory=ffbp_memory,
     accuracy={"standard": Accuracy("polar grids oversampled 1.75 (angle), 2.0 (range)", -55.0,
-                                   "-56.6 to -61.1 dB measured, bright-pixel phase p99 < 1 deg"),
+                                   "-57.2 to -61.0 dB measured, bright-pixel phase p99 < 1 deg"),
               "high": Accuracy("oversampled 3.0 (angle), 2.5 (range), about 1.5x the time", -65.0,
-                               "-71.0 to -76.1 dB measured")})
+                               "-70.0 to -77.2 dB measured")})
 def form_ffbp(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = BP_UPSAMPLE,
               accuracy: str = "standard", progress=None) -> ImageResult:
     """Fast factorised backprojection (the ``ffbp`` former), normalised as ``bp``.

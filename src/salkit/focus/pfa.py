@@ -321,6 +321,14 @@ def pfa_on_grid(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_ran
     ky_lo, ky_hi = np.max(ends.min(axis=1)), np.min(ends.max(axis=1))
     dky = 2 * np.pi / (ny * dy)
     nky = min(int(np.floor((ky_hi - ky_lo) / dky)), ny)  # every sample inside the data
+    if nky < 2:  # a wide aperture's annulus: its pulses' bands share no range frequencies
+        a_lo, a_hi = float(np.abs(ur).min()), float(np.abs(ur).max())
+        raise ScenarioError("processing.algorithm", "pfa",
+                            f"the pulses' K-space samples share no band of range frequencies to form the image "
+                            f"from (an inscribed rectangle of {max(nky, 0)} rows where the grid asks {ny}): their "
+                            f"direction cosines along the range axis span {a_lo:.4g} to {a_hi:.4g} in size, a "
+                            f"ratio of {a_hi / max(a_lo, 1e-300):.4g} where the band's frequencies span a ratio of "
+                            f"{freq[-1] / freq[0]:.4g}; use --algorithm bp or ffbp, or a narrower aperture")
     ky_c = 0.5 * (ky_lo + ky_hi)
     ky = ky_c + (np.arange(nky) - nky // 2) * dky
     # input index of ky[j] on pulse n is linear in j: x0[n] + j * step[n]
