@@ -158,3 +158,25 @@ def test_range_widening_grows_with_the_aperture():
     assert np.all(np.diff(ground) > 0) and np.all(np.diff(slant) > 0)
     assert ground[0] < 1.03 and ground[2] > 1.3 and ground[3] > 3.0
     assert all(g > s for g, s in zip(ground[1:], slant[1:]))
+
+
+def test_polar_grids_beyond_the_memory_left_are_refused_before_any_work():
+    """FFBP sizes every level's polar grids before allocating any (over a 60-degree arc they hold
+    several times the pixels, which the sizes-only estimate does not see) and refuses, naming them,
+    when they exceed the memory this process may still use."""
+    from salkit.errors import ResourceError
+    from salkit.focus import phase_history
+    from salkit.focus.formers import get_former
+    from salkit.resources import set_limit
+    from salkit.signals.windows import Window
+    tb = wide_angle(60.0, 0.5, "ground", pulses=256)
+    pts, amp = tb.speckle(32, extent=1.0, density=0.1, seed=1)
+    ph = phase_history(tb.dataset(pts, amp))
+    ig = ImageGrid.of(ph, tb.grid(32))
+    set_limit(2 ** 19)
+    try:
+        with pytest.raises(ResourceError, match=r"FFBP's polar grids \(\d levels.*widened [34]\.\d+x.*32 x 32 image"):
+            get_former("ffbp")(ph, ig, Window("none"))
+    finally:
+        set_limit(None)
+    assert np.isfinite(get_former("ffbp")(ph, ig, Window("none")).image).all()

@@ -64,6 +64,7 @@ import numpy as np
 from ..choices import ACCURACY, check_choice
 from ..constants import SPEED_OF_LIGHT
 from ..errors import ScenarioError
+from ..resources import check_memory, gib
 from ..signals.windows import Window
 from .profiles import range_profiles
 from .formers import Accuracy, ImageGrid, ImageResult, Sizes, register_former
@@ -384,12 +385,22 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     os_sub = prof.shape[1] / M / widen
     tr = interpolation_table(range_taps, os_sub)
     tl = interpolation_table(LEAF_TAPS, prof.shape[1] / M)
+    # every level's polar grids, sized before any is allocated: the two buffers they take in turn
+    # (and the image) must fit the memory this process may still use (a wide arc's grids hold up to
+    # several times the pixels: the range widening and the leaves' margins over a small scene)
+    grids = [_polar_grids(cen, _lengths(positions, spans, cen, ea, step), grid, lam_min, dr, oversample_angle)
+             for spans, cen, _, _ in levels]
+    nbytes = [8.0 * len(lv[0]) * int(g[2].max()) * int(g[4].max()) for lv, g in zip(levels, grids)]
+    nx, ny = grid.azimuth.size, grid.range.size
+    check_memory(max(nbytes[0::2]) + max(nbytes[1::2], default=0.0) + 8.0 * nx * ny,
+                 f"FFBP's polar grids ({len(levels)} levels, up to {gib(max(nbytes))} a level, their range "
+                 f"sampling widened {widen:.3g}x for the sub-images' spectrum) and the {nx} x {ny} image",
+                 "use --algorithm bp, a smaller grid, fewer pulses or a narrower aperture")
     # level 0: leaves of `leaf` pulses
     groups, centres, _, _ = levels[0]
-    lengths = _lengths(positions, groups, centres, ea, step)
     n_levels = len(levels) + 1  # leaves, merges, final
     done = 0
-    u0, du, nu, r0, nr = _polar_grids(centres, lengths, grid, lam_min, dr, oversample_angle)
+    u0, du, nu, r0, nr = grids[0]
     # two buffers used in turn by the levels (one read, one written): their pages are faulted in
     # once, not at every level (page faults inside the parallel kernels cost up to half a merge)
     pool = [np.empty(0, np.complex64), np.empty(0, np.complex64)]
@@ -419,9 +430,7 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     if progress:
         progress(done, n_levels)
     # merge `factor` at a time, the last merge by two, until two sub-images remain for the final step
-    for spans, pcen, _, f_level in levels[1:]:
-        plen = _lengths(positions, spans, pcen, ea, step)
-        pu0, pdu, pnu, pr0, pnr = _polar_grids(pcen, plen, grid, lam_min, dr, oversample_angle)
+    for (spans, pcen, _, f_level), (pu0, pdu, pnu, pr0, pnr) in zip(levels[1:], grids[1:]):
         out = grid_buffer(done, (len(spans), int(pnu.max()), int(pnr.max())))
         prho = np.linalg.norm(pcen - o, axis=1)
         _merge_kernel(G.view(np.float32), u0, du, nu, r0, nr, centres, rho, dr, f_level, o, ea, er, pcen, prho, pu0,
@@ -435,7 +444,6 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     # the image into the buffer the last level did not write, where it fits (its pages are in
     # already: first touches of fresh memory cost up to 0.2 s at 4096^2), shrunk to the image after
     # (every pixel is written by either kernel)
-    nx, ny = grid.azimuth.size, grid.range.size
     spare = next((b for b in pool if b.size >= nx * ny and not np.shares_memory(b, G)), None)
     img = np.empty((nx, ny), np.complex64) if spare is None else spare[:nx * ny].reshape(nx, ny)
     az, rg = np.asarray(grid.azimuth, np.float64), np.asarray(grid.range, np.float64)
