@@ -161,9 +161,9 @@ def test_range_widening_grows_with_the_aperture():
 
 
 def test_polar_grids_beyond_the_memory_left_are_refused_before_any_work():
-    """FFBP sizes every level's polar grids before allocating any (over a 60-degree arc they hold
-    several times the pixels, which the sizes-only estimate does not see) and refuses, naming them,
-    when they exceed the memory this process may still use."""
+    """FFBP sizes its range profiles and every level's polar grids before any work (over a
+    60-degree arc they hold several times what the sizes-only estimate counts) and refuses, naming
+    them, when they exceed the memory this process may still use."""
     from salkit.errors import ResourceError
     from salkit.focus import phase_history
     from salkit.focus.formers import get_former
@@ -175,7 +175,7 @@ def test_polar_grids_beyond_the_memory_left_are_refused_before_any_work():
     ig = ImageGrid.of(ph, tb.grid(32))
     set_limit(2 ** 19)
     try:
-        with pytest.raises(ResourceError, match=r"FFBP's polar grids \(\d levels.*widened [34]\.\d+x.*32 x 32 image"):
+        with pytest.raises(ResourceError, match=r"FFBP's range profiles \(256 x \d+\) and polar grids \(\d levels.*widened [34]\.\d+x.*32 x 32 image"):
             get_former("ffbp")(ph, ig, Window("none"))
     finally:
         set_limit(None)

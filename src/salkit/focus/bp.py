@@ -15,14 +15,13 @@ one interpolation, so a variant is one declaration::
 from __future__ import annotations
 
 import numpy as np
-import scipy.fft as sfft
 
 from ..signals.windows import Window
 from ..tolerances import BP_DEFAULT_HIGH_UPSAMPLE, BP_DEFAULT_UPSAMPLE, BP_UPSAMPLE
 from .bp_kernel import backproject, profile_block
 from .formers import Accuracy, ImageGrid, ImageResult, Sizes, register_former
 from .phasehistory import PhaseHistory
-from .profiles import interpolation_of
+from .profiles import interpolation_of, profile_length
 from .stripmap_bp import stripmap_backprojection
 
 
@@ -178,7 +177,7 @@ def bp_memory(sizes: Sizes) -> float:
     float
     """
     up = max(int(sizes.upsample), 1)
-    return profile_block(sizes.samples, up) * 16.0 * sfft.next_fast_len(int(sizes.samples * up))
+    return profile_block(sizes.samples, up) * 16.0 * profile_length(sizes.samples, up)
 
 
 _form_default, _blocks_default = backprojection_former("fitted", BP_DEFAULT_UPSAMPLE)

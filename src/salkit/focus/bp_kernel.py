@@ -34,7 +34,7 @@ from ..geometry.ranges import range_offsets
 from ..signals.phase import sincos_cycles
 from ..constants import FFT_WORKERS, SPEED_OF_LIGHT
 from ..tolerances import BP_UPSAMPLE
-from .profiles import interpolation_of, pack_profiles, pad_profiles, range_profiles
+from .profiles import interpolation_of, pack_profiles, pad_profiles, profile_length, range_profiles
 from .simd import WIDTH, linear8, taps4x8
 
 WORKERS = FFT_WORKERS
@@ -464,7 +464,7 @@ def profile_block(n_samples: int, upsample: int, block: int = 32) -> int:
     >>> profile_block(2000, 16), profile_block(655360, 16)
     (32, 1)
     """
-    per_pulse = 2 * 8.0 * sfft.next_fast_len(int(n_samples * upsample))
+    per_pulse = 2 * 8.0 * profile_length(n_samples, upsample)
     while block > 1 and block * per_pulse > PROFILE_BYTES:
         block //= 2
     return block

@@ -66,7 +66,7 @@ from ..constants import SPEED_OF_LIGHT
 from ..errors import ScenarioError
 from ..resources import check_memory, gib
 from ..signals.windows import Window
-from .profiles import range_profiles
+from .profiles import profile_sampling, range_profiles
 from .formers import Accuracy, ImageGrid, ImageResult, Sizes, register_former
 from .phasehistory import PhaseHistory
 from ..tolerances import BP_UPSAMPLE
@@ -320,9 +320,7 @@ def range_widening(levels: list, positions: np.ndarray, grid: ImageGrid, freq: n
             D = (np.einsum("snkj,skj->snk", v, t) / np.sqrt(np.einsum("snkj,snkj->snk", v, v))
                  / np.maximum(drc, 1e-9)[:, None])
             lo, hi = min(lo, float(D.min())), max(hi, float(D.max()))
-    bounds = (lo, hi)
-    edges = [k * dd - k_c for k in (k_lo, k_hi) for dd in bounds]
-    return max(1.0, max(abs(e) for e in edges) / half)
+    return max(1.0, max(abs(k * d - k_c) for k in (k_lo, k_hi) for d in (lo, hi)) / half)
 
 
 def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.ndarray, grid: ImageGrid,
@@ -373,29 +371,33 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     # resolution cell, and per the sub-images' range spectrum where a wide aperture widens it): a
     # polar line then moves one profile bin per point
     widen = range_widening(levels, positions, grid, freq)
-    prof, rp0, dr, _ = range_profiles(ph, freq, oversample_range * widen, np.asarray(range_window, np.float64))
+    nfft, dr = profile_sampling(freq, oversample_range * widen)
     plane = grid.plane
     o = np.ascontiguousarray(plane.origin, np.float64)
     ea = np.ascontiguousarray(plane.azimuth, np.float64)
     er = np.ascontiguousarray(plane.range, np.float64)
     step = float(np.median(np.linalg.norm(np.diff(positions, axis=0), axis=1))) if P > 1 else 0.0
-    tu = interpolation_table(ANGLE_TAPS, oversample_angle)
-    # the leaves read the pulses' profiles (the pulse's band); the merges and the last step the
-    # sub-images (their band widened by ``widen``)
-    os_sub = prof.shape[1] / M / widen
-    tr = interpolation_table(range_taps, os_sub)
-    tl = interpolation_table(LEAF_TAPS, prof.shape[1] / M)
-    # every level's polar grids, sized before any is allocated: the two buffers they take in turn
-    # (and the image) must fit the memory this process may still use (a wide arc's grids hold up to
-    # several times the pixels: the range widening and the leaves' margins over a small scene)
+    # every level's polar grids, sized before any work: the range profiles (twice while they are
+    # transformed), then beside them the two grid buffers the levels take in turn and the image, must
+    # fit the memory this process may still use (a wide arc's profiles and grids hold several times
+    # what the sizes alone say: the range widening, and the leaves' margins over a small scene)
     grids = [_polar_grids(cen, _lengths(positions, spans, cen, ea, step), grid, lam_min, dr, oversample_angle)
              for spans, cen, _, _ in levels]
     nbytes = [8.0 * len(lv[0]) * int(g[2].max()) * int(g[4].max()) for lv, g in zip(levels, grids)]
     nx, ny = grid.azimuth.size, grid.range.size
-    check_memory(max(nbytes[0::2]) + max(nbytes[1::2], default=0.0) + 8.0 * nx * ny,
-                 f"FFBP's polar grids ({len(levels)} levels, up to {gib(max(nbytes))} a level, their range "
-                 f"sampling widened {widen:.3g}x for the sub-images' spectrum) and the {nx} x {ny} image",
+    profile_bytes = 8.0 * P * nfft
+    check_memory(profile_bytes + max(profile_bytes, max(nbytes[0::2]) + max(nbytes[1::2], default=0.0) + 8.0 * nx * ny),
+                 f"FFBP's range profiles ({P} x {nfft}) and polar grids ({len(levels)} levels, up to "
+                 f"{gib(max(nbytes))} a level), their range sampling widened {widen:.3g}x for the sub-images' "
+                 f"spectrum, and the {nx} x {ny} image",
                  "use --algorithm bp, a smaller grid, fewer pulses or a narrower aperture")
+    prof, rp0, _, _ = range_profiles(ph, freq, oversample_range * widen, np.asarray(range_window, np.float64))
+    tu = interpolation_table(ANGLE_TAPS, oversample_angle)
+    # the leaves read the pulses' profiles (the pulse's band); the merges and the last step the
+    # sub-images (their band widened by ``widen``)
+    os_sub = nfft / M / widen
+    tr = interpolation_table(range_taps, os_sub)
+    tl = interpolation_table(LEAF_TAPS, nfft / M)
     # level 0: leaves of `leaf` pulses
     groups, centres, _, _ = levels[0]
     n_levels = len(levels) + 1  # leaves, merges, final

@@ -377,6 +377,49 @@ def _compensation(interpolation: str, M: int, nfft: int) -> np.ndarray:
     return g
 
 
+def profile_length(n_samples: int, upsample: float) -> int:
+    """The FFT length of range profiles upsampled ``upsample`` times: the next fast length from
+    ``n_samples * upsample``.
+
+    Parameters
+    ----------
+    n_samples : int
+        Frequencies a pulse.
+    upsample : float
+        Profile samples per frequency sample (at least).
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> profile_length(424, 2.0)
+    864
+    """
+    return sfft.next_fast_len(int(n_samples * upsample))
+
+
+def profile_sampling(freq: np.ndarray, upsample: float) -> tuple[int, float]:
+    """The FFT length and bin spacing of :func:`range_profiles` for ``freq`` and ``upsample``,
+    known before any transform (for sizing the work that reads them).
+
+    Parameters
+    ----------
+    freq : float64 (M,)
+        Frequencies, Hz, increasing and uniform.
+    upsample : float
+
+    Returns
+    -------
+    nfft : int
+    dr : float
+        Bin spacing, m of differential range.
+    """
+    nfft = profile_length(freq.size, upsample)
+    return nfft, SPEED_OF_LIGHT / (2.0 * float(freq[1] - freq[0]) * nfft)
+
+
 def range_profiles(ph: np.ndarray, freq: np.ndarray, upsample: int, range_window: np.ndarray,
                    linear_compensation: bool = False, interpolation: str = "linear"):
     """Upsampled range profiles of a phase-history block.
@@ -408,8 +451,7 @@ def range_profiles(ph: np.ndarray, freq: np.ndarray, upsample: int, range_window
         How the profiles will be read (:data:`INTERPOLATIONS`).
     """
     P, M = ph.shape
-    df = float(freq[1] - freq[0])
-    nfft = sfft.next_fast_len(int(M * upsample))
+    nfft, dr = profile_sampling(freq, upsample)
     h = M // 2
     # sample m goes to bin k = (m - h) mod nfft; the ramp exp(-j 2 pi k s / nfft), s = nfft // 2,
     # does the fftshift inside the transform (no scatter with an index array, no shifted copy)
@@ -422,6 +464,5 @@ def range_profiles(ph: np.ndarray, freq: np.ndarray, upsample: int, range_window
     np.multiply(ph[:, h:], ramp[h:], out=buf[:, :M - h])
     np.multiply(ph[:, :h], ramp[:h], out=buf[:, nfft - h:])
     prof = sfft.ifft(buf, axis=1, workers=WORKERS, norm="forward", overwrite_x=True)
-    dr = SPEED_OF_LIGHT / (2.0 * df * nfft)
     r0 = -(nfft // 2) * dr
     return prof.astype(np.complex64, copy=False), r0, dr, float(freq[M // 2])
