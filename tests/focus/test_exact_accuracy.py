@@ -1,6 +1,6 @@
 """The image formers against the exact float64 matched filter (the truth former), on the
 geometries users bring (:mod:`salkit.simulate.testbeds`): wide-angle airborne X band (level and
-climbing arcs of 4 to 60 degrees, ground and slant planes, scenes inside and three times larger than the grid), the
+climbing arcs of 4 to 120 degrees, ground and slant planes, scenes inside and three times larger than the grid), the
 seed geometries at 1.55 um (5 km, 200 km, 560 km) and a curved track. Error energy
 sum |I - T|^2 / sum |T|^2 of speckled scenes (1 % of the scatterers 30 times brighter), and the
 phase of the bright pixels."""
@@ -23,6 +23,9 @@ GEOMETRIES = {
     # the sub-images' range spectrum widens (salkit.focus.ffbp.range_widening)
     "wide30_climb_ground": (lambda n: wide_angle(30.0, 0.5, "ground", pulses=512), 101),
     "wide60_climb_slant": (lambda n: wide_angle(60.0, 0.5, "slant", pulses=1024), 101),
+    # past 90 degrees the arc's ends look at the scene far off the plane's range axis: the band
+    # along a polar grid's direction cosine stretches by 1 / cos (salkit.focus.ffbp.angle_lengths)
+    "wide120_climb_ground": (lambda n: wide_angle(120.0, 0.5, "ground", pulses=1024), 101),
     "seed_5km": (lambda n: seed("5km", n), 96),
     "seed_200km": (lambda n: seed("200km", n), 96),
     "seed_560km": (lambda n: seed("560km", n), 96),
@@ -63,7 +66,8 @@ def form(alg, name, extent=1.0, **kw):
 
 #: Each level's geometries: every one at "standard"; at "high" (slower) those where the margin is least.
 HIGH = {"bp": ["wide4_climb_ground", "seed_560km"], "bp_fitted": ["seed_560km"],
-        "ffbp": ["wide4_climb_ground", "wide4_climb_slant", "wide30_climb_ground", "seed_5km", "seed_560km"]}
+        "ffbp": ["wide4_climb_ground", "wide4_climb_slant", "wide30_climb_ground", "wide120_climb_ground", "seed_5km",
+                 "seed_560km"]}
 #: The declared promises (salkit.registry.FORMERS), every former that makes one, held here.
 PROMISES = [(n, level, g) for n, spec in FORMERS.items() for level, acc in spec.accuracy.items()
             if acc.error_db is not None for g in (GEOMETRIES if level == "standard" else HIGH.get(n, GEOMETRIES))]

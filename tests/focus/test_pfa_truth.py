@@ -33,11 +33,13 @@ def _plane_wave(name):
 #: The arcs of 30 and 60 degrees (their 101^2 grids are 2.4 and 1.2 m in azimuth, where the wavefront's
 #: curvature across the aperture is no longer negligible).
 WIDE = ("wide30_climb_ground", "wide60_climb_slant")
+#: Every arc past 10 degrees (the 120-degree one PFA does not form: its pulses share no band).
+PAST_TEN = WIDE + ("wide120_climb_ground",)
 
 
 def test_plane_wave_error_small_on_the_test_grids():
     for name in GEOMETRIES:
-        if name not in WIDE:
+        if name not in PAST_TEN:
             pw = _plane_wave(name)
             assert pw["pfa_defocus_rad"] < 0.01 and pw["pfa_distortion_px"] < 0.1, name
 

@@ -8,7 +8,9 @@ import pytest
 from salkit import focus, simulate
 from salkit.errors import ResourceError
 from salkit.focus import memory_estimate
-from salkit.focus.tiles import plan_tiling
+from salkit.focus import phase_history
+from salkit.focus.formers import ImageGrid
+from salkit.focus.tiles import Geometry, plan_tiling
 from salkit.io import open_dataset, write_dataset
 from salkit.params import parse_scenario
 
@@ -84,6 +86,14 @@ def test_tiled_backprojection_equals_the_untiled_image(scene, tmp_path):
     assert b.attrs["resolution_azimuth"] == whole.attrs["resolution_azimuth"]
 
 
+def _ffbp_need(raw, sc, **grid):
+    """FFBP's whole-job estimate from the collection's geometry (what the planner weighs it by)."""
+    ph = phase_history(raw)
+    g = sc.processing.grid.model_copy(update=grid)
+    return memory_estimate(*ph.data.shape, g.nx, g.ny, "ffbp", raw=raw.attrs.get("salkit_kind") == "raw",
+                           geometry=Geometry(ph.positions, ph.freq, ImageGrid.of(ph, g)))[0]
+
+
 def test_tiled_ffbp_has_no_seam(scene):
     """Against direct backprojection at high accuracy: the tiled FFBP image is as accurate as the
     whole one, and its error within 3 pixels of a tile border is no more than 1 dB above elsewhere."""
@@ -91,8 +101,7 @@ def test_tiled_ffbp_has_no_seam(scene):
     ref = focus(raw, sc.processing, algorithm="bp", accuracy="high")["image"].values
     whole = focus(raw, sc.processing, algorithm="ffbp")["image"].values
     P, N = raw["signal"].shape
-    t = focus(raw, sc.processing, algorithm="ffbp",
-              memory_limit=raw["signal"].nbytes + 0.4 * memory_estimate(P, N, 256, 192, "ffbp")[0])
+    t = focus(raw, sc.processing, algorithm="ffbp", memory_limit=raw["signal"].nbytes + 0.3 * _ffbp_need(raw, sc))
     tiled = t["image"].values
     assert t.attrs["tiles"] >= 4
     assert _db(whole - ref, ref) < -50 and _db(tiled - ref, ref) < _db(whole - ref, ref) + 1.0
@@ -201,6 +210,45 @@ def test_ffbp_in_pulse_blocks_from_a_file(scene, tmp_path):
     whole = focus(raw, sc.processing, algorithm="ffbp")["image"].values
     P, N = raw["signal"].shape
     lazy = open_dataset(write_dataset(raw, tmp_path / "raw.nc"), lazy=True)
-    b = focus(lazy, sc.processing, algorithm="ffbp", memory_limit=0.5 * memory_estimate(P, N, 256, 192, "ffbp")[0])
+    b = focus(lazy, sc.processing, algorithm="ffbp", memory_limit=0.5 * _ffbp_need(raw, sc))
     assert b.attrs["pulse_block"] < P
     assert _db(b["image"].values - ref, ref) < _db(whole - ref, ref) + 1.0 < -50
+
+
+def test_a_wide_arc_is_cut_by_its_geometry_not_its_sizes():
+    """Over a 60-degree arc FFBP's polar grids and range profiles hold several times what the sizes
+    say (the range widening): the planner, given the geometry, cuts the job so that every tile and
+    pulse block (not only the ones it weighs) fits the budget by FFBP's own count, where the
+    sizes-only plan would have run it whole and FFBP refused it; focus() then forms it within the
+    budget, as the untiled image to FFBP's accuracy."""
+    from salkit.focus.ffbp import ffbp_layout
+    from salkit.simulate.testbeds import wide_angle
+    tb = wide_angle(60.0, 0.5, "slant", pulses=1024)
+    pts, amp = tb.point_targets(96, count=5)
+    raw = tb.dataset(pts, amp)
+    ph = phase_history(raw)
+    P, M = ph.data.shape
+    ig = ImageGrid.of(ph, tb.grid(96))
+    geo = Geometry(ph.positions, ph.freq, ig)
+    lay = ffbp_layout(ph.positions, ph.freq, ig)
+    assert lay.widen > 2.0
+    exact = memory_estimate(P, M, 96, 96, "ffbp", raw=False, geometry=geo)[0]
+    sizes = memory_estimate(P, M, 96, 96, "ffbp", raw=False)[0]
+    assert exact > 1.5 * sizes
+    budget = 0.5 * exact
+    assert not plan_tiling(P, M, 96, 96, "ffbp", budget, raw=False).tiled  # the sizes say it fits whole
+    t = plan_tiling(P, M, 96, 96, "ffbp", budget, raw=False, geometry=geo)
+    assert t.tiled and t.need <= budget
+    worst = 0.0
+    for i0, i1, j0, j1 in t.tiles:
+        box = (max(0, i0 - 16), min(96, i1 + 16), max(0, j0 - 16), min(96, j1 + 16)) if t.n_tiles > 1 else (
+            i0, i1, j0, j1)
+        for a, b in t.blocks:
+            worst = max(worst, memory_estimate(b - a, M, box[1] - box[0], box[3] - box[2], "ffbp", raw=False,
+                                               geometry=geo.part(a, b, *box))[0] + 8.0 * 96 * 96)
+    assert worst <= budget
+    whole = focus(raw, algorithm="ffbp", grid=tb.grid(96))
+    cut = focus(raw, algorithm="ffbp", grid=tb.grid(96), memory_limit=raw["signal"].nbytes + budget)
+    assert cut.attrs["pulse_block"] < P or cut.attrs["tiles"] > 1
+    ref = whole["image"].values
+    assert _db(cut["image"].values - ref, ref) < -50

@@ -58,6 +58,7 @@ from __future__ import annotations
 
 import math
 from decimal import Decimal, localcontext
+from typing import NamedTuple
 
 import numpy as np
 
@@ -92,6 +93,9 @@ LEAF_TAPS = 8
 #: for 8 taps: the image's edges lost 10 to 15 dB).
 MARGIN_ANGLE = 5
 MARGIN_RANGE = 6
+#: Fewest pixels a side FFBP forms: a narrower grid is formed this wide and cropped (a strip of a few
+#: pixels formed as it is lost up to 16 dB: its pixels are all edge).
+MIN_SIDE = 32
 
 
 from .ffbp_leaves import _chunks, _leaf_kernel, interpolation_table, polynomial_weights
@@ -144,47 +148,50 @@ def _image_boundary(grid: ImageGrid, n: int = 64) -> np.ndarray:
 
 
 def _polar_grids(centres: np.ndarray, lengths: np.ndarray, grid: ImageGrid, wavelength: float, dr: float,
-                 oversample_angle: float):
-    """Per sub-aperture: u origin, u step, u count, r origin, r count (r step ``dr`` for all)."""
+                 oversample_angle: float, block: int = 256):
+    """Per sub-aperture: u origin, u step, u count, r origin, r count (r step ``dr`` for all);
+    ``block`` sub-apertures at a time."""
     pts = _image_boundary(grid)
     ea = grid.plane.azimuth
     S = centres.shape[0]
     u0 = np.empty(S)
-    du = np.empty(S)
+    du = wavelength / (2.0 * np.maximum(lengths, 1e-9) * oversample_angle)
     nu = np.empty(S, np.int64)
     r0 = np.empty(S)
     nr = np.empty(S, np.int64)
     # the rectangle's nearest point to each centre bounds r from below
     o, er = grid.plane.origin, grid.plane.range
     az, rg = grid.azimuth, grid.range
-    for s in range(S):
-        d = pts - centres[s]
-        R = np.linalg.norm(d, axis=1)
+    for s0 in range(0, S, block):
+        sl = slice(s0, min(S, s0 + block))
+        cen = centres[sl]
+        d = pts[None] - cen[:, None]
+        R = np.linalg.norm(d, axis=-1)
         U = d @ ea / R
-        rel = centres[s] - o
+        rel = cen - o
         ca = np.clip(rel @ ea, az[0], az[-1])
         cg = np.clip(rel @ er, rg[0], rg[-1])
-        rmin = min(float(np.linalg.norm(o + ca * ea + cg * er - centres[s])), float(R.min()))
-        du[s] = wavelength / (2.0 * max(lengths[s], 1e-9) * oversample_angle)
-        lo, hi = float(U.min()), float(U.max())
-        n_u = int(math.ceil((hi - lo) / du[s])) + 1 + 2 * MARGIN_ANGLE
-        u0[s] = lo - MARGIN_ANGLE * du[s]
-        nu[s] = n_u
-        r0[s] = rmin - MARGIN_RANGE * dr
-        nr[s] = int(math.ceil((float(R.max()) - rmin) / dr)) + 1 + 2 * MARGIN_RANGE
+        near = np.linalg.norm(o + ca[:, None] * ea + cg[:, None] * er - cen, axis=-1)
+        rmin = np.minimum(near, R.min(axis=1))
+        lo, hi = U.min(axis=1), U.max(axis=1)
+        nu[sl] = np.ceil((hi - lo) / du[sl]).astype(np.int64) + 1 + 2 * MARGIN_ANGLE
+        u0[sl] = lo - MARGIN_ANGLE * du[sl]
+        r0[sl] = rmin - MARGIN_RANGE * dr
+        nr[sl] = np.ceil((R.max(axis=1) - rmin) / dr).astype(np.int64) + 1 + 2 * MARGIN_RANGE
     return u0, du, nu, r0, nr
 
 
 def _lengths(positions: np.ndarray, groups: list, centres: np.ndarray, ea: np.ndarray, step: float) -> np.ndarray:
     """Effective length of each group of pulses: its span along ea plus twice its largest
     excursion across ea (track curvature widens the angular band too), plus one pulse step."""
-    out = np.empty(len(groups))
-    for s, (a, b) in enumerate(groups):
-        d = positions[a:b] - centres[s]
-        along = d @ ea
-        across = np.linalg.norm(d - np.outer(along, ea), axis=1)
-        out[s] = float(along.max() - along.min()) + 2.0 * float(across.max()) + step
-    return out
+    ab = np.asarray(groups, np.int64).reshape(-1, 2)
+    idx = np.repeat(np.arange(len(ab)), ab[:, 1] - ab[:, 0])
+    d = positions[ab[0, 0]:ab[-1, 1]] - centres[idx]
+    along = d @ ea
+    across = np.linalg.norm(d - along[:, None] * ea, axis=1)
+    starts = ab[:, 0] - ab[0, 0]
+    span = np.maximum.reduceat(along, starts) - np.minimum.reduceat(along, starts)
+    return span + 2.0 * np.maximum.reduceat(across, starts) + step
 
 
 def _tree(positions: np.ndarray, w: np.ndarray, leaf: int, factor: int) -> list:
@@ -254,8 +261,57 @@ def polar_tangent(x: np.ndarray, centre: np.ndarray, ea: np.ndarray, er: np.ndar
     return u[..., None] * ea + (r * (1.0 - u * u) / dg)[..., None] * er
 
 
+def angle_lengths(spans: list, centres: np.ndarray, positions: np.ndarray, grid: ImageGrid,
+                  n_pulses: int = 9) -> np.ndarray:
+    """Each sub-aperture's length as its polar grid's angle sampling must see it, m: the L for which
+    the sub-image's highest frequency along the direction cosine u, L / lambda cycles, is reached.
+
+    A sub-image at baseband holds each pulse p's echo at phase k (|x - p| - |x - c|); along its
+    polar grid's u at constant range r (x = foot + r u e_a + t e_r, t = (x - c).e_r, so
+    dx/du = r e_a - (r^2 u / t) e_r) that phase moves at (2 / lambda) (n_p - n_c).dx/du cycles, n the
+    unit vectors from p and from c to x. Straight ahead (u = 0) that is the pulse's offset along e_a,
+    at most L / 2 for a sub-aperture of length L; a sub-aperture that looks at the scene at an angle
+    theta off the plane's range axis sees its band stretched by 1 / cos(theta) (twice at 60 degrees:
+    the ends of a 120-degree arc). The largest over the scene's edge and a lattice inside it and up
+    to ``n_pulses`` of each sub-aperture's pulses (its ends among them), times 2.
+
+    Parameters
+    ----------
+    spans : list of (int, int)
+        Each sub-aperture's pulses.
+    centres : float64 (S, 3)
+        Their centres, m.
+    positions : float64 (P, 3)
+        Antenna positions, m.
+    grid : ImageGrid
+    n_pulses : int
+        Pulses sampled in each sub-aperture.
+
+    Returns
+    -------
+    float64 (S,)
+        m.
+    """
+    x = _scene_points(grid)
+    ea, er = grid.plane.azimuth, grid.plane.range
+    ab = np.asarray(spans, np.float64).reshape(-1, 2)
+    frac = np.linspace(0.0, 1.0, n_pulses)
+    pulses = np.rint(ab[:, :1] + (ab[:, 1:] - 1.0 - ab[:, :1]) * frac).astype(np.int64)  # (S, n), ends included
+    out = np.empty(len(ab))
+    for s0 in range(0, len(ab), 64):  # blocks of sub-apertures: bounded temporaries
+        sl = slice(s0, min(s0 + 64, len(ab)))
+        d = x - centres[sl][:, None, :]  # (S, K, 3)
+        r = np.sqrt(np.einsum("skj,skj->sk", d, d))
+        t = np.maximum(d @ er, 1e-9 * r)
+        dxdu = r[..., None] * ea - (r * r * (d @ ea) / r / t)[..., None] * er  # (S, K, 3)
+        v = x[None, None] - positions[pulses[sl]][:, :, None]  # (S, n, K, 3)
+        nv = v / np.sqrt(np.einsum("snkj,snkj->snk", v, v))[..., None] - (d / r[..., None])[:, None]
+        out[sl] = 2.0 * np.abs(np.einsum("snkj,skj->snk", nv, dxdu)).max(axis=(1, 2))
+    return out
+
+
 def range_widening(levels: list, positions: np.ndarray, grid: ImageGrid, freq: np.ndarray,
-                   n_pulses: int = 9) -> float:
+                   n_pulses: int = 9, rows: bool = True) -> float:
     """How much wider than the pulse's band the sub-images' range spectrum is, where they are
     interpolated in range: the factor by which the polar grids' range sampling must exceed the
     pulse band's to keep their oversampling.
@@ -285,6 +341,9 @@ def range_widening(levels: list, positions: np.ndarray, grid: ImageGrid, freq: n
         Frequencies, Hz, increasing and uniform (the baseband's reference is ``freq[M // 2]``).
     n_pulses : int
         Pulses sampled in each sub-aperture.
+    rows : bool
+        The last step reads the sub-images along the image's rows (``_final_rows``); False: at each
+        pixel along their own polar lines (``_final_kernel``, a grid of one range column).
 
     Returns
     -------
@@ -300,9 +359,9 @@ def range_widening(levels: list, positions: np.ndarray, grid: ImageGrid, freq: n
     ea, er = grid.plane.azimuth, grid.plane.range
     lo, hi = 1.0, 1.0
     # (children, their lines' centres): each merge's children along their parent's polar lines, the
-    # last level's sub-apertures along the image's rows (a centre of None)
+    # last level's sub-apertures along the image's rows (a centre of None) or, in a one-column grid, their own lines
     work = [(cl, pl[1][np.arange(len(cl[0])) // pl[3]]) for cl, pl in zip(levels[:-1], levels[1:])]
-    work.append((levels[-1], None))
+    work.append((levels[-1], None if rows else levels[-1][1]))
     frac = np.linspace(0.0, 1.0, n_pulses)
     for (spans, centres, _, _), line_centres in work:
         ab = np.asarray(spans, np.float64)
@@ -321,6 +380,167 @@ def range_widening(levels: list, positions: np.ndarray, grid: ImageGrid, freq: n
                  / np.maximum(drc, 1e-9)[:, None])
             lo, hi = min(lo, float(D.min())), max(hi, float(D.max()))
     return max(1.0, max(abs(k * d - k_c) for k in (k_lo, k_hi) for d in (lo, hi)) / half)
+
+
+class Layout(NamedTuple):
+    """How FFBP cuts a collection and what it holds, known before any work (:func:`ffbp_layout`).
+
+    Attributes
+    ----------
+    levels : list
+        The factorisation's levels, leaves first (pulse spans, centres, weights, children merged).
+    widen : float
+        The sub-images' range widening (:func:`range_widening`), >= 1.
+    nfft : int
+        The range profiles' FFT length.
+    dr : float
+        Their bin spacing and the polar grids' range step, m.
+    grids : list
+        Each level's polar grids: u origin, u step, u count, r origin, r count per sub-aperture.
+    grid_bytes : list of float
+        Each level's grid buffer, bytes (complex64, the largest sub-image's shape for all).
+    profile_bytes : float
+        The range profiles, bytes (complex64, pulses x nfft).
+    image_bytes : float
+        The output image, bytes (complex64).
+    """
+
+    levels: list
+    widen: float
+    nfft: int
+    dr: float
+    grids: list
+    grid_bytes: list
+    profile_bytes: float
+    image_bytes: float
+
+    @property
+    def peak(self) -> float:
+        """Peak bytes: the profiles, twice while they are transformed, then beside them the two grid
+        buffers the levels take in turn (the even levels' largest and the odd levels') and the image."""
+        even = max(self.grid_bytes[0::2])
+        odd = max(self.grid_bytes[1::2], default=0.0)
+        return self.profile_bytes + max(self.profile_bytes, even + odd + self.image_bytes)
+
+
+def _check_in_front(leaves, grid: ImageGrid) -> None:
+    """Refuse a collection whose sub-apertures do not all lie before the scene along the image's
+    range axis: the polar grids run from each centre across the scene towards +e_r
+    (:func:`~salkit.focus.ffbp_leaves._polar_line`), which a centre past the scene's near edge
+    cannot see (an aperture of more than 180 degrees around the scene, a track over it). The
+    leaves suffice: every parent's centre is a weighted mean of theirs, and the distance is linear."""
+    spans, centres = leaves[0], leaves[1]
+    rg = grid.range
+    near = float(rg[0]) - (0.5 * float(rg[1] - rg[0]) if rg.size > 1 else 0.0)
+    lead = (grid.plane.origin - centres) @ grid.plane.range + near
+    k = int(np.argmin(lead))
+    if lead[k] <= 0.0:
+        a, b = spans[k]
+        raise ScenarioError("processing.algorithm", "ffbp",
+                            "FFBP's polar grids run from every sub-aperture across the scene along the image's "
+                            f"range axis, so every pulse must lie before the scene's near edge; pulses {a} to {b - 1} "
+                            f"lie {-float(lead[k]):.4g} m past it (an aperture of more than 180 degrees around the "
+                            "scene, or a track over it): use bp (any trajectory), or form the aperture in parts")
+
+
+def _layout(positions: np.ndarray, freq: np.ndarray, grid: ImageGrid, w: np.ndarray, leaf: int, factor: int,
+            oversample_angle: float, oversample_range: float) -> Layout:
+    """:class:`Layout` of FFBP with these settings (the window ``w`` weighs the sub-apertures'
+    centres)."""
+    P = positions.shape[0]
+    levels = _tree(positions, w, leaf, factor)
+    _check_in_front(levels[0], grid)
+    # range profiles sampled at the polar grids' range spacing (at least oversample_range per
+    # resolution cell, and per the sub-images' range spectrum where a wide aperture widens it): a
+    # polar line then moves one profile bin per point
+    widen = range_widening(levels, positions, grid, freq, rows=grid.range.size > 1)
+    nfft, dr = profile_sampling(freq, oversample_range * widen)
+    ea = np.ascontiguousarray(grid.plane.azimuth, np.float64)
+    step = float(np.median(np.linalg.norm(np.diff(positions, axis=0), axis=1))) if P > 1 else 0.0
+    lam_min = SPEED_OF_LIGHT / float(freq[-1])
+    # the angle sampling: the span and curvature of each sub-aperture, or its band as seen from the
+    # scene where that is wider (a sub-aperture off the plane's range axis)
+    grids = [_polar_grids(cen, np.maximum(_lengths(positions, spans, cen, ea, step),
+                                          angle_lengths(spans, cen, positions, grid)),
+                          grid, lam_min, dr, oversample_angle)
+             for spans, cen, _, _ in levels]
+    nbytes = [8.0 * len(lv[0]) * int(g[2].max()) * int(g[4].max()) for lv, g in zip(levels, grids)]
+    return Layout(levels, widen, nfft, dr, grids, nbytes, 8.0 * P * nfft,
+                  8.0 * grid.azimuth.size * grid.range.size)
+
+
+def ffbp_layout(positions: np.ndarray, freq: np.ndarray, grid: ImageGrid, accuracy: str = "standard") -> Layout:
+    """FFBP's factorisation of a collection onto ``grid`` and the memory it holds, from the
+    geometry alone (no signal): what :func:`ffbp` sizes before any work, and what the tiling
+    planner (:mod:`salkit.focus.tiles`) weighs tiles and pulse blocks by.
+
+    Parameters
+    ----------
+    positions : float64 (P, 3)
+        Antenna positions, m.
+    freq : float64 (M,)
+        Frequencies, Hz, increasing and uniform.
+    grid : ImageGrid
+    accuracy : {"standard", "high"}
+
+    Returns
+    -------
+    Layout
+        ``peak`` its peak memory, bytes.
+
+    Raises
+    ------
+    ScenarioError
+        For an undeclared accuracy.
+    """
+    check_choice("processing.accuracy", accuracy, ACCURACY)
+    knobs = {"oversample_angle": OVERSAMPLE_ANGLE, "oversample_range": OVERSAMPLE_RANGE}
+    if accuracy == "high":
+        knobs.update(ACCURATE)
+    positions = np.asarray(positions, np.float64)
+    grown = _grown(grid)
+    if grown is not None:  # a narrow grid is formed wider (ffbp)
+        grid = grown[0]
+    return _layout(positions, np.asarray(freq, np.float64), grid, np.ones(positions.shape[0], np.float32),
+                   LEAF_PULSES, MERGE_FACTOR, **knobs)
+
+
+def ffbp_footprint(positions: np.ndarray, freq: np.ndarray, grid: ImageGrid, accuracy: str = "standard") -> float:
+    """Bytes FFBP adds to what every former holds, from the collection's geometry (the ``footprint``
+    of ``ffbp``'s declaration): its peak (:func:`ffbp_layout`) less the image.
+
+    Parameters
+    ----------
+    positions : float64 (P, 3)
+        Antenna positions, m.
+    freq : float64 (M,)
+        Frequencies, Hz.
+    grid : ImageGrid
+    accuracy : {"standard", "high"}
+
+    Returns
+    -------
+    float
+    """
+    lay = ffbp_layout(positions, freq, grid, accuracy)
+    return lay.peak - lay.image_bytes
+
+
+def _grown(grid: ImageGrid):
+    """A grid of at least :data:`MIN_SIDE` pixels a side holding ``grid`` at its centre (the same
+    plane, spacing and pixel coordinates), and where ``grid`` starts in it; None when ``grid`` is
+    that large already."""
+    axes = []
+    for ax, step in ((grid.azimuth, grid.spec.dx), (grid.range, grid.spec.dy)):
+        n = ax.size
+        d = float(ax[1] - ax[0]) if n > 1 else float(step)
+        lo = max(0, (MIN_SIDE - n) // 2)
+        hi = max(0, MIN_SIDE - n - lo)
+        axes.append((np.concatenate([ax[0] - d * np.arange(lo, 0, -1), ax, ax[-1] + d * np.arange(1, hi + 1)]), lo))
+    (az, i0), (rg, j0) = axes
+    if az.size == grid.azimuth.size and rg.size == grid.range.size:
+        return None
+    return ImageGrid(grid.plane, az, rg, grid.spec.model_copy(update={"nx": az.size, "ny": rg.size})), i0, j0
 
 
 def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.ndarray, grid: ImageGrid,
@@ -360,37 +580,32 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     (complex64 (nx, ny), dict)
         The image and the sizes of the factorisation (levels, polar samples).
     """
+    widened = _grown(grid)
+    if widened is not None:  # a narrow grid is formed wider and cropped: FFBP's edges are its least exact pixels
+        big, i0, j0 = widened
+        img, info = ffbp(ph, freq, positions, ref_range, big, azimuth_window, range_window, leaf, factor,
+                         oversample_angle, oversample_range, range_taps, progress)
+        return np.ascontiguousarray(img[i0:i0 + grid.azimuth.size, j0:j0 + grid.range.size]), info
     P, M = ph.shape
-    c = SPEED_OF_LIGHT
-    lam_min = c / float(freq[-1])
     f_c = float(freq[M // 2])
-    cyc_per_m = 2.0 * f_c / c
+    cyc_per_m = 2.0 * f_c / SPEED_OF_LIGHT
     w = np.asarray(azimuth_window, np.float32)
-    levels = _tree(positions, w, leaf, factor)
-    # range profiles sampled at the polar grids' range spacing (at least oversample_range per
-    # resolution cell, and per the sub-images' range spectrum where a wide aperture widens it): a
-    # polar line then moves one profile bin per point
-    widen = range_widening(levels, positions, grid, freq)
-    nfft, dr = profile_sampling(freq, oversample_range * widen)
-    plane = grid.plane
-    o = np.ascontiguousarray(plane.origin, np.float64)
-    ea = np.ascontiguousarray(plane.azimuth, np.float64)
-    er = np.ascontiguousarray(plane.range, np.float64)
-    step = float(np.median(np.linalg.norm(np.diff(positions, axis=0), axis=1))) if P > 1 else 0.0
     # every level's polar grids, sized before any work: the range profiles (twice while they are
     # transformed), then beside them the two grid buffers the levels take in turn and the image, must
     # fit the memory this process may still use (a wide arc's profiles and grids hold several times
     # what the sizes alone say: the range widening, and the leaves' margins over a small scene)
-    grids = [_polar_grids(cen, _lengths(positions, spans, cen, ea, step), grid, lam_min, dr, oversample_angle)
-             for spans, cen, _, _ in levels]
-    nbytes = [8.0 * len(lv[0]) * int(g[2].max()) * int(g[4].max()) for lv, g in zip(levels, grids)]
-    nx, ny = grid.azimuth.size, grid.range.size
-    profile_bytes = 8.0 * P * nfft
-    check_memory(profile_bytes + max(profile_bytes, max(nbytes[0::2]) + max(nbytes[1::2], default=0.0) + 8.0 * nx * ny),
-                 f"FFBP's range profiles ({P} x {nfft}) and polar grids ({len(levels)} levels, up to "
-                 f"{gib(max(nbytes))} a level), their range sampling widened {widen:.3g}x for the sub-images' "
-                 f"spectrum, and the {nx} x {ny} image",
+    lay = _layout(positions, freq, grid, w, leaf, factor, oversample_angle, oversample_range)
+    levels, widen, nfft, dr, grids = lay.levels, lay.widen, lay.nfft, lay.dr, lay.grids
+    check_memory(lay.peak, f"FFBP's range profiles ({P} x {nfft}) and polar grids ({len(levels)} levels, up to "
+                 f"{gib(max(lay.grid_bytes))} a level), their range sampling widened {widen:.3g}x for the "
+                 f"sub-images' spectrum, and the {grid.azimuth.size} x {grid.range.size} image",
                  "use --algorithm bp, a smaller grid, fewer pulses or a narrower aperture")
+    plane = grid.plane
+    o = np.ascontiguousarray(plane.origin, np.float64)
+    ea = np.ascontiguousarray(plane.azimuth, np.float64)
+    er = np.ascontiguousarray(plane.range, np.float64)
+    lam_min = SPEED_OF_LIGHT / float(freq[-1])
+    nx, ny = grid.azimuth.size, grid.range.size
     prof, rp0, _, _ = range_profiles(ph, freq, oversample_range * widen, np.asarray(range_window, np.float64))
     tu = interpolation_table(ANGLE_TAPS, oversample_angle)
     # the leaves read the pulses' profiles (the pulse's band); the merges and the last step the
@@ -511,8 +726,10 @@ def ffbp_blocks(pulses, grid: ImageGrid, window: Window, ranges, upsample: int, 
 
 
 def ffbp_memory(sizes: Sizes) -> float:
-    """Bytes FFBP adds: two buffers of polar grids (each up to 3 times the pixels, complex64:
-    margins and padding) and the range profiles (about twice the signal).
+    """Bytes FFBP adds, from the sizes alone: two buffers of polar grids (each up to 3 times the
+    pixels, complex64: margins and padding) and the range profiles (about twice the signal). Where
+    the geometry is known, :func:`ffbp_footprint` counts them exactly (a wide arc holds several
+    times more).
 
     Parameters
     ----------
@@ -532,7 +749,7 @@ TILE_OVERLAP = 16
 @register_former(
     "ffbp", summary="fast factorised backprojection (Ulander 2003), any trajectory: sub-apertures merged on polar grids",
     modes=("spotlight",), tracks="any", phase_reference="aperture_centre", tiles=True, tile_overlap=TILE_OVERLAP,
-    blocks=ffbp_blocks, memory=ffbp_memory,
+    blocks=ffbp_blocks, memory=ffbp_memory, footprint=ffbp_footprint,
     accuracy={"standard": Accuracy("polar grids oversampled 1.75 (angle), 2.0 (range)", -55.0,
                                    "-57.2 to -61.0 dB measured, bright-pixel phase p99 < 1 deg"),
               "high": Accuracy("oversampled 3.0 (angle), 2.5 (range), about 1.5x the time", -65.0,

@@ -209,6 +209,11 @@ class FormerSpec:
         Range-profile upsampling (backprojection) at each level of :data:`salkit.choices.ACCURACY`:
         the default at "standard", the least at "high" (others ignore it). Default
         :data:`salkit.tolerances.BP_UPSAMPLE` and :data:`salkit.tolerances.HIGH_ACCURACY_UPSAMPLE`.
+    footprint : callable or None
+        ``footprint(positions, freq, grid, accuracy) -> bytes``: what ``memory`` counts, from the
+        collection's geometry where the sizes alone do not tell it (FFBP's polar grids and range
+        profiles grow with the aperture's angle); the tiling planner weighs tiles and pulse blocks
+        by it when the geometry is known. None: ``memory`` is exact enough.
     """
 
     name: str
@@ -223,6 +228,7 @@ class FormerSpec:
     memory: Callable[[Sizes], float]
     accuracy: Mapping[str, Accuracy] = field(default_factory=dict)
     upsample: Mapping[str, int] = field(default_factory=lambda: dict(DEFAULT_UPSAMPLE))
+    footprint: Optional[Callable] = None
 
     def __post_init__(self):
         what = f"image former {self.name!r}"
@@ -247,6 +253,8 @@ class FormerSpec:
             raise ValueError(f"{what}: pulse blocks (blocks) are formed tile by tile: declare tiles=True")
         if not callable(self.form) or not callable(self.memory):
             raise ValueError(f"{what}: form and memory must be callables")
+        if self.footprint is not None and not callable(self.footprint):
+            raise ValueError(f"{what}: footprint must be a callable or None")
 
     def accepts(self, mode: str, straight: bool) -> bool:
         """Whether it forms a collection of ``mode`` (straight track or not).

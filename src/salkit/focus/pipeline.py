@@ -36,7 +36,7 @@ from ..simulate.echoes import memory_estimate as simulate_memory_estimate, signa
 from .downlooking import focus_downlooking_raw
 from .formers import DEFAULT_UPSAMPLE, ImageGrid, ImageResult, former_spec, get_former, upsample_bounds
 from .phasehistory import PhaseHistory, default_grid, phase_history, theory_resolution
-from .tiles import DatasetPulses, InMemoryPulses, form_tiles, memory_estimate, plan_tiling
+from .tiles import DatasetPulses, Geometry, InMemoryPulses, form_tiles, memory_estimate, plan_tiling
 
 _log = logging.getLogger("salkit.focus")
 
@@ -238,14 +238,24 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
     stripmap = str(raw.attrs.get("mode", "spotlight")) == "stripmap" and float(raw.attrs.get("real_aperture", 0)) > 0
     if not former.accepts("stripmap" if stripmap else "spotlight", True):  # the track is checked by the former
         raise ScenarioError("processing.algorithm", alg, former.refusal("stripmap" if stripmap else "spotlight", True))
-    g0 = grid or (processing.grid if processing else None)
     P, N = raw["signal"].shape
     chirp = processing.chirp_correction if processing is not None else "none"
     noise_fix = processing.phase_noise_correction if processing is not None else "none"
     spread = _spread(client)
     upsample = check_upsample(upsample)
     up = range_upsample(processing, accuracy, upsample, alg)
-    tiling, held = _plan(raw, alg, g0.nx if g0 else 256, g0.ny if g0 else 256, memory_limit, out is None, spread, up)
+    if plane is not None:
+        check_choice("plane", plane, PLANES)
+    g, geometry = None, None
+    if former.footprint is not None:  # its memory follows the pulses' positions and the grid: planned on them
+        geo = DatasetPulses(raw, chirp, noise_fix).geometry()
+        g = _grid_for(geo, grid, processing, plane)
+        geometry = _geometry(geo, g, processing, accuracy)
+        tiling, held = _plan(raw, alg, g.nx, g.ny, memory_limit, out is None, spread, up, geometry)
+    else:
+        g0 = grid or (processing.grid if processing else None)
+        tiling, held = _plan(raw, alg, g0.nx if g0 else 256, g0.ny if g0 else 256, memory_limit, out is None, spread,
+                             up)
     if tiling.pulse_block < P:  # the signal is read and range-compressed a block at a time
         pulses = DatasetPulses(raw, chirp, noise_fix)
         ph = pulses.geometry()
@@ -256,19 +266,12 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
         if not held and not np.isfinite(ph.data).all():  # a lazily opened file is checked as it is read
             raise DataFileError(f"{source + ': ' if source else ''}variable 'signal' has non-finite values")
         pulses = InMemoryPulses(ph)
-    if plane is not None:
-        check_choice("plane", plane, PLANES)
-    g = grid or (processing.grid if processing else default_grid(ph, plane=plane or "slant"))
-    if plane is not None and g.plane != plane:
-        g = g.model_copy(update={"plane": plane})
+    if g is None:
+        g = _grid_for(ph, grid, processing, plane)
     p = processing or Processing(grid=g)
     if upsample is not None:  # validated above; form_image reads it from the processing
         p = p.model_copy(update={"range_upsample": upsample})
     res = theory_resolution(ph, ImageGrid.of(ph, g).plane)
-    if g.dx > res["azimuth"] * GRID_SPACING_OF_RESOLUTION or g.dy > res["range"] * GRID_SPACING_OF_RESOLUTION:
-        raise ScenarioError("processing.grid", f"dx={g.dx:g}, dy={g.dy:g}",
-                            f"spacing must not exceed the resolution (azimuth {res['azimuth']:.4g} m, "
-                            f"range {res['range']:.4g} m)")
     if (g.nx, g.ny) != (tiling.nx, tiling.ny):
         tiling, _ = _plan(raw, alg, g.nx, g.ny, memory_limit, out is None, spread, up)
     if tiling.tiled:
@@ -301,15 +304,38 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
     return add_collection_geometry(image, raw, ph)
 
 
+def _geometry(geo: PhaseHistory, g: Grid, processing: Optional[Processing], accuracy: str | None) -> Geometry:
+    """The pulses and the grid a former's declared ``footprint`` weighs (the planner's
+    :class:`salkit.focus.tiles.Geometry`), at the accuracy the processing or ``accuracy`` names."""
+    acc = accuracy or (processing.accuracy if processing is not None else "standard")
+    return Geometry(geo.positions, geo.freq, ImageGrid.of(geo, g), acc)
+
+
+def _grid_for(ph: PhaseHistory, grid: Grid | None, processing: Optional[Processing], plane: str | None) -> Grid:
+    """The grid :func:`focus_sal` forms: the one given, the processing's, or the default for the
+    data (:func:`default_grid`), in ``plane`` when one is named; refused when its spacing exceeds the
+    resolution."""
+    g = grid or (processing.grid if processing else default_grid(ph, plane=plane or "slant"))
+    if plane is not None and g.plane != plane:
+        g = g.model_copy(update={"plane": plane})
+    res = theory_resolution(ph, ImageGrid.of(ph, g).plane)
+    if g.dx > res["azimuth"] * GRID_SPACING_OF_RESOLUTION or g.dy > res["range"] * GRID_SPACING_OF_RESOLUTION:
+        raise ScenarioError("processing.grid", f"dx={g.dx:g}, dy={g.dy:g}",
+                            f"spacing must not exceed the resolution (azimuth {res['azimuth']:.4g} m, "
+                            f"range {res['range']:.4g} m)")
+    return g
+
+
 def _plan(raw: xr.Dataset, alg: str, nx: int, ny: int, memory_limit, hold_image: bool, spread: dict,
-          upsample: int | None = None):
+          upsample: int | None = None, geometry: Geometry | None = None):
     """The tiling of focusing ``raw`` onto nx x ny (:func:`salkit.focus.tiles.plan_tiling`) within
-    the budget, counting the signal as held when it is in memory; and the bytes held."""
+    the budget, counting the signal as held when it is in memory; and the bytes held. ``geometry``:
+    the pulses and the grid, for a former whose memory follows them."""
     P, N = raw["signal"].shape
     held = float(raw["signal"].nbytes) if getattr(raw["signal"].variable, "_in_memory", True) else 0.0  # lazily opened: not held
     stripmap = str(raw.attrs.get("mode", "spotlight")) == "stripmap" and float(raw.attrs.get("real_aperture", 0)) > 0
     tiling = plan_tiling(P, N, nx, ny, alg, memory_budget(memory_limit, held), raw=raw.attrs.get("salkit_kind") == "raw",
-                         stripmap=stripmap, hold_image=hold_image, upsample=upsample, **spread)
+                         stripmap=stripmap, hold_image=hold_image, upsample=upsample, geometry=geometry, **spread)
     return tiling, held
 
 
@@ -390,9 +416,14 @@ def image_fits(raw: xr.Dataset, processing: Optional[Processing] = None, *, grid
     if g is None:
         return True  # the default grid, 256 x 256
     alg = algorithm or (proc.algorithm if proc is not None else "bp")
+    geometry = None
+    if former_spec(alg).footprint is not None:  # its memory follows the pulses' positions and the grid
+        geo = DatasetPulses(raw, proc.chirp_correction if proc is not None else "none",
+                            proc.phase_noise_correction if proc is not None else "none").geometry()
+        geometry = _geometry(geo, g, proc, accuracy)
     try:
         _plan(raw, alg, g.nx, g.ny, memory_limit, True, _spread(client),
-              range_upsample(proc, accuracy, check_upsample(upsample), alg))
+              range_upsample(proc, accuracy, check_upsample(upsample), alg), geometry)
     except ResourceError:
         return False
     return True

@@ -19,7 +19,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass
-from typing import Callable, Optional
+from typing import Callable, NamedTuple, Optional
 
 import lazy_loader as _lazy
 import numpy as np
@@ -43,8 +43,43 @@ MIN_BLOCK = 64
 KERNEL_BLOCK = 32
 
 
+class Geometry(NamedTuple):
+    """A collection's geometry and the grid it is formed on, for formers whose memory follows them
+    (a declared ``footprint``: FFBP).
+
+    Attributes
+    ----------
+    positions : float64 (P, 3)
+        Antenna positions, m.
+    freq : float64 (M,)
+        Frequencies, Hz.
+    grid : ImageGrid
+        The whole output grid.
+    accuracy : {"standard", "high"}
+    """
+
+    positions: np.ndarray
+    freq: np.ndarray
+    grid: ImageGrid
+    accuracy: str = "standard"
+
+    def part(self, a: int, b: int, i0: int, i1: int, j0: int, j1: int) -> "Geometry":
+        """Pulses ``a`` to ``b`` onto the pixels [i0:i1, j0:j1].
+
+        Parameters
+        ----------
+        a, b, i0, i1, j0, j1 : int
+
+        Returns
+        -------
+        Geometry
+        """
+        return self._replace(positions=self.positions[a:b], grid=tile_grid(self.grid, i0, i1, j0, j1))
+
+
 def memory_estimate(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str = "bp",
-                    raw: bool = True, cover_pixels: int | None = None, upsample: int | None = None) -> tuple[float, str]:
+                    raw: bool = True, cover_pixels: int | None = None, upsample: int | None = None,
+                    geometry: Geometry | None = None) -> tuple[float, str]:
     """Peak memory of focusing, bytes, from the sizes.
 
     What every former holds: the signal (complex64, pulses x samples) once, and from raw data the
@@ -69,6 +104,9 @@ def memory_estimate(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: 
     upsample : int, optional
         Backprojection's range-profile upsampling (its profiles grow with it); default the
         former's own (its declaration's ``upsample`` at "standard").
+    geometry : Geometry, optional
+        The pulses and the grid themselves (``n_pulses`` of them, ``nx`` x ``ny``): a former that
+        declares a ``footprint`` is counted by it, exactly, rather than from the sizes.
 
     Returns
     -------
@@ -85,7 +123,10 @@ def memory_estimate(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: 
     px = float(nx) * ny
     need = sig * (7 if raw else 2) + 24.0 * px
     up = spec.upsample["standard"] if upsample is None else int(upsample)
-    need += float(spec.memory(Sizes(n_pulses, n_samples, nx, ny, int(max(cover_pixels or 0, px)), up)))
+    if geometry is not None and spec.footprint is not None:
+        need += float(spec.footprint(geometry.positions, geometry.freq, geometry.grid, geometry.accuracy))
+    else:
+        need += float(spec.memory(Sizes(n_pulses, n_samples, nx, ny, int(max(cover_pixels or 0, px)), up)))
     return need, (f"focusing {n_pulses} pulses x {n_samples} samples onto {nx} x {ny} pixels "
                   f"({algorithm})")
 
@@ -156,7 +197,7 @@ class Tiling:
 
 def plan_tiling(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str, budget: float, *,
                 raw: bool = True, stripmap: bool = False, hold_image: bool = True, at_once: int = 1,
-                min_tiles: int = 1, upsample: int | None = None) -> Tiling:
+                min_tiles: int = 1, upsample: int | None = None, geometry: Geometry | None = None) -> Tiling:
     """The largest tiles (and pulse blocks) whose estimated memory fits ``budget``.
 
     Parameters
@@ -184,6 +225,11 @@ def plan_tiling(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str,
         At least this many tiles (work for every worker), even when fewer would fit.
     upsample : int, optional
         Backprojection's range-profile upsampling (:func:`memory_estimate`; default the former's own).
+    geometry : Geometry, optional
+        The collection and the whole grid: a former that declares a ``footprint`` (FFBP) is then
+        weighed by it, each candidate cut at its largest over the tiles at the grid's corners, its
+        edges' midpoints and its centre and the first, middle and last pulse blocks (its polar grids and profiles follow the
+        aperture's angle and where the tile lies, not only the sizes).
 
     Returns
     -------
@@ -196,13 +242,34 @@ def plan_tiling(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str,
         the smallest size does not fit: the message names the memory and the budget.
     """
     spec = former_spec(algorithm)
+    known = {}
+    exact = geometry is not None and spec.footprint is not None
+
+    def former_need(tx, ty, pb):
+        cut = (tx, ty, pb) != (nx, ny, n_pulses)
+        m = spec.tile_overlap if cut else 0  # the overlap a tile is formed with, each side
+        if not exact:
+            return memory_estimate(pb, n_samples, min(nx, tx + 2 * m), min(ny, ty + 2 * m), algorithm, raw=raw,
+                                   upsample=upsample)[0]
+        plan = Tiling(nx, ny, tx, ty, n_pulses, pb, 0.0, 0.0, algorithm)
+        tiles, blocks = plan.tiles, plan.blocks
+        corners = {next(k for k, (i0, i1, j0, j1) in enumerate(tiles) if i0 <= i < i1 and j0 <= j < j1)
+                   for i in (0, nx // 2, nx - 1) for j in (0, ny // 2, ny - 1)}
+        worst = 0.0
+        for k in sorted(corners):
+            i0, i1, j0, j1 = tiles[k]
+            box = (max(0, i0 - m), min(nx, i1 + m), max(0, j0 - m), min(ny, j1 + m))
+            for a, b in {blocks[0], blocks[len(blocks) // 2], blocks[-1]}:
+                worst = max(worst, memory_estimate(b - a, n_samples, box[1] - box[0], box[3] - box[2], algorithm,
+                                                   raw=raw, upsample=upsample, geometry=geometry.part(a, b, *box))[0])
+        return worst
 
     def need(tx, ty, pb):
-        cut = (tx, ty, pb) != (nx, ny, n_pulses)
-        m = 2 * spec.tile_overlap if cut else 0  # the overlap a tile is formed with
-        est = memory_estimate(pb, n_samples, min(nx, tx + m), min(ny, ty + m), algorithm, raw=raw,
-                              upsample=upsample)[0] * max(at_once, 1)
-        return est + (8.0 * nx * ny if (cut and hold_image) else 0.0)
+        if (tx, ty, pb) not in known:
+            cut = (tx, ty, pb) != (nx, ny, n_pulses)
+            known[tx, ty, pb] = (former_need(tx, ty, pb) * max(at_once, 1)
+                                 + (8.0 * nx * ny if (cut and hold_image) else 0.0))
+        return known[tx, ty, pb]
 
     def count(tx, ty):
         return math.ceil(nx / tx) * math.ceil(ny / ty)

@@ -201,13 +201,16 @@ def analyse_point(image: np.ndarray, az: np.ndarray, rg: np.ndarray, res_az: flo
     c = np.unravel_index(int(np.argmax(np.abs(bb))), bb.shape)
     za = np.arange((c[0] - 2) * U, (c[0] + 2) * U + 1) % (N * U)
     zr = np.arange((c[1] - 2) * U, (c[1] + 2) * U + 1) % (M * U)
-    zoom = _zoom_matrix(fq_a, za, N, U) @ spec @ _zoom_matrix(fq_r, zr, M, U).T
+    # products by einsum's own loops, not BLAS: a threaded BLAS sums in an order that follows its
+    # thread count, and a Dask worker (one thread) must measure what this process does, bit for bit
+    zoom = np.einsum("ik,lk->il", np.einsum("ij,jk->ik", _zoom_matrix(fq_a, za, N, U), spec),
+                     _zoom_matrix(fq_r, zr, M, U))
     kz = np.unravel_index(int(np.argmax(np.abs(zoom))), zoom.shape)
     k = (int(za[kz[0]]), int(zr[kz[1]]))
-    col = spec @ _zoom_matrix(fq_r, np.array([k[1]]), M, U)[0]  # through the fine peak's range
-    row = _zoom_matrix(fq_a, np.array([k[0]]), N, U)[0] @ spec
-    cut_az = _zoom_matrix(fq_a, np.arange(N * U), N, U) @ col
-    cut_rg = _zoom_matrix(fq_r, np.arange(M * U), M, U) @ row
+    col = np.einsum("ij,j->i", spec, _zoom_matrix(fq_r, np.array([k[1]]), M, U)[0])  # through the fine peak's range
+    row = np.einsum("j,jk->k", _zoom_matrix(fq_a, np.array([k[0]]), N, U)[0], spec)
+    cut_az = np.einsum("ij,j->i", _zoom_matrix(fq_a, np.arange(N * U), N, U), col)
+    cut_rg = np.einsum("ij,j->i", _zoom_matrix(fq_r, np.arange(M * U), M, U), row)
     m_az = ipr_1d(cut_az, Dx / U, res_az)
     m_rg = ipr_1d(cut_rg, Dy / U, res_rg)
     pa = m_az["peak_index"] / U  # in neighbourhood samples
