@@ -145,3 +145,28 @@ def test_upsample_overrides_the_processing_and_is_checked():
         with pytest.raises(ScenarioError, match="upsample.*integer from 2 to 64"):
             focus(raw, sc.processing, upsample=bad)
     assert check_upsample(None) is None and check_upsample(4.0) == 4
+
+
+def test_a_runs_plan_weighs_ffbp_on_the_collection_it_will_simulate():
+    """`salkit run` plans before simulating: FFBP's geometry there (the positions, the range-compressed
+    frequencies, the grid) is the one focus() then weighs, so both count the same footprint; a
+    trajectory FFBP cannot form (pulses past the scene) is refused then, before any work."""
+    from salkit.errors import ScenarioError
+    from salkit.focus import phase_history
+    from salkit.focus.ffbp import ffbp_footprint
+    from salkit.focus.formers import ImageGrid
+    from salkit.focus.pipeline import _scenario_geometry, run_memory_plan
+    sc = parse_scenario(merge(SPOT, processing={**SPOT["processing"], "algorithm": "ffbp"}))
+    raw = simulate(sc)
+    ph = phase_history(raw)
+    geo = _scenario_geometry(sc, raw["signal"].shape[1])
+    np.testing.assert_allclose(geo.positions, ph.positions, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(geo.freq, ph.freq, rtol=1e-12)
+    assert ffbp_footprint(geo.positions, geo.freq, geo.grid) == ffbp_footprint(
+        ph.positions, ph.freq, ImageGrid.of(ph, sc.processing.grid))
+    assert not run_memory_plan(sc).tiled
+    assert _scenario_geometry(parse_scenario(SPOT), 16) is None  # bp's memory follows the sizes
+    over = [(float(x), -float(y), 0.0) for x, y in ((-3.0, 4000.0), (0.0, -10.0), (3.0, 4000.0))]
+    beyond = parse_scenario(merge(SPOT, processing={**SPOT["processing"], "algorithm": "ffbp"}, platform={**SPOT["platform"], "positions": over}))
+    with pytest.raises(ScenarioError, match="past it"):
+        run_memory_plan(beyond)

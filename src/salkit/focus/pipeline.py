@@ -20,7 +20,7 @@ import xarray as xr
 
 from ..choices import ACCURACY, PLANES, check_choice
 from ..errors import DataFileError, ResourceError, ScenarioError
-from ..geometry.collection import truth_positions
+from ..geometry.collection import build_collection, grid_axes, plane_from, truth_positions
 from ..geometry.geodesy import image_geolocation
 from ..io.datasets import make_image_dataset
 from ..io.reading import lazy_reads, open_dataset
@@ -32,7 +32,7 @@ from ..registry import FORMERS
 from ..resources import available_memory, parse_size, size_text, user_limit
 from ..signals.windows import Window
 from ..tolerances import GRID_SPACING_OF_RESOLUTION
-from ..simulate.echoes import memory_estimate as simulate_memory_estimate, signal_shape
+from ..simulate.echoes import fast_time_axis, memory_estimate as simulate_memory_estimate, signal_shape
 from .downlooking import focus_downlooking_raw
 from .formers import DEFAULT_UPSAMPLE, ImageGrid, ImageResult, former_spec, get_former, upsample_bounds
 from .phasehistory import PhaseHistory, default_grid, phase_history, theory_resolution
@@ -550,7 +550,8 @@ def memory_budget(limit: float | str | None = None, held: float = 0.0) -> float:
 
 def run_memory_plan(scenario: Scenario, limit: float | str | None = None):
     """The memory plan of :func:`salkit.simulate.simulate` then :func:`focus`: simulating must fit
-    the budget; focusing, with the raw signal held, runs in tiles when it does not fit whole.
+    the budget; focusing, with the raw signal held, runs in tiles when it does not fit whole (FFBP
+    weighed on the collection the scenario will simulate, as :func:`focus` will weigh it).
 
     Parameters
     ----------
@@ -567,6 +568,8 @@ def run_memory_plan(scenario: Scenario, limit: float | str | None = None):
     ------
     ResourceError
         When simulating does not fit, or focusing cannot be cut to fit beside the signal.
+    ScenarioError
+        When FFBP cannot form the collection (pulses past the scene).
     """
     sim, what = simulate_memory_estimate(scenario)
     budget = memory_budget(limit)
@@ -578,7 +581,23 @@ def run_memory_plan(scenario: Scenario, limit: float | str | None = None):
     g, p = scenario.processing.grid, scenario.processing
     stripmap = scenario.platform.mode == "stripmap" and scenario.platform.real_aperture > 0
     return plan_tiling(P, N, g.nx, g.ny, p.algorithm, budget - 8.0 * P * N, raw=True, stripmap=stripmap,
-                       upsample=range_upsample(p))
+                       upsample=range_upsample(p), geometry=_scenario_geometry(scenario, N))
+
+
+def _scenario_geometry(scenario: Scenario, n_samples: int) -> Geometry | None:
+    """The collection a scenario will simulate and the grid it will be formed on, for a former
+    whose memory follows them (a declared ``footprint``): the pulses' positions, the phase history's
+    frequencies (c / wavelength + rate x fast time, as range compression makes them) and the
+    processing grid; None for other formers."""
+    p = scenario.processing
+    if former_spec(p.algorithm).footprint is None:
+        return None
+    col = build_collection(scenario)
+    w = scenario.waveform
+    freq = w.carrier_frequency + w.rate * fast_time_axis(n_samples, scenario.receiver.adc_rate)
+    g = p.grid
+    ig = ImageGrid(plane_from(col.track, col.center_position, g.plane), *grid_axes(g), g)
+    return Geometry(col.positions, freq, ig, p.accuracy)
 
 
 def _focus_downlooking(raw: xr.Dataset, processing=None, *, scenario=None, progress=None, **options) -> xr.Dataset:
