@@ -228,8 +228,8 @@ def plan_tiling(n_pulses: int, n_samples: int, nx: int, ny: int, algorithm: str,
     geometry : Geometry, optional
         The collection and the whole grid: a former that declares a ``footprint`` (FFBP) is then
         weighed by it, each candidate cut at its largest over the tiles at the grid's corners, its
-        edges' midpoints and its centre and the first, middle and last pulse blocks (its polar grids and profiles follow the
-        aperture's angle and where the tile lies, not only the sizes).
+        edges' midpoints and its centre and the first, middle and last pulse blocks (its polar
+        grids and profiles follow the aperture's angle and where the tile lies, not only the sizes).
 
     Returns
     -------
