@@ -261,6 +261,13 @@ def polar_tangent(x: np.ndarray, centre: np.ndarray, ea: np.ndarray, er: np.ndar
     return u[..., None] * ea + (r * (1.0 - u * u) / dg)[..., None] * er
 
 
+def _sampled_pulses(spans: list, n_pulses: int) -> np.ndarray:
+    """``n_pulses`` pulse indices spread over each span (a, b), its ends among them: int64 (S, n)."""
+    ab = np.asarray(spans, np.float64).reshape(-1, 2)
+    frac = np.linspace(0.0, 1.0, n_pulses)
+    return np.rint(ab[:, :1] + (ab[:, 1:] - 1.0 - ab[:, :1]) * frac).astype(np.int64)
+
+
 def angle_lengths(spans: list, centres: np.ndarray, positions: np.ndarray, grid: ImageGrid,
                   n_pulses: int = 9) -> np.ndarray:
     """Each sub-aperture's length as its polar grid's angle sampling must see it, m: the L for which
@@ -294,12 +301,10 @@ def angle_lengths(spans: list, centres: np.ndarray, positions: np.ndarray, grid:
     """
     x = _scene_points(grid)
     ea, er = grid.plane.azimuth, grid.plane.range
-    ab = np.asarray(spans, np.float64).reshape(-1, 2)
-    frac = np.linspace(0.0, 1.0, n_pulses)
-    pulses = np.rint(ab[:, :1] + (ab[:, 1:] - 1.0 - ab[:, :1]) * frac).astype(np.int64)  # (S, n), ends included
-    out = np.empty(len(ab))
-    for s0 in range(0, len(ab), 64):  # blocks of sub-apertures: bounded temporaries
-        sl = slice(s0, min(s0 + 64, len(ab)))
+    pulses = _sampled_pulses(spans, n_pulses)
+    out = np.empty(len(pulses))
+    for s0 in range(0, len(pulses), 64):  # blocks of sub-apertures: bounded temporaries
+        sl = slice(s0, min(s0 + 64, len(pulses)))
         d = x - centres[sl][:, None, :]  # (S, K, 3)
         r = np.sqrt(np.einsum("skj,skj->sk", d, d))
         t = np.maximum(d @ er, 1e-9 * r)
@@ -362,10 +367,8 @@ def range_widening(levels: list, positions: np.ndarray, grid: ImageGrid, freq: n
     # last level's sub-apertures along the image's rows (a centre of None) or, in a one-column grid, their own lines
     work = [(cl, pl[1][np.arange(len(cl[0])) // pl[3]]) for cl, pl in zip(levels[:-1], levels[1:])]
     work.append((levels[-1], None if rows else levels[-1][1]))
-    frac = np.linspace(0.0, 1.0, n_pulses)
     for (spans, centres, _, _), line_centres in work:
-        ab = np.asarray(spans, np.float64)
-        pulses = np.rint(ab[:, :1] + (ab[:, 1:] - 1.0 - ab[:, :1]) * frac).astype(np.int64)  # (S, n), ends included
+        pulses = _sampled_pulses(spans, n_pulses)
         for s0 in range(0, len(spans), 64):  # blocks of children: bounded temporaries
             sl = slice(s0, min(s0 + 64, len(spans)))
             p = positions[pulses[sl]]  # (S, n, 3)

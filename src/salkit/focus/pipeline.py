@@ -246,9 +246,10 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
     up = range_upsample(processing, accuracy, upsample, alg)
     if plane is not None:
         check_choice("plane", plane, PLANES)
-    g, geometry = None, None
+    g, geometry, source = None, None, None
     if former.footprint is not None:  # its memory follows the pulses' positions and the grid: planned on them
-        geo = DatasetPulses(raw, chirp, noise_fix).geometry()
+        source = DatasetPulses(raw, chirp, noise_fix)
+        geo = source.geometry()
         g = _grid_for(geo, grid, processing, plane)
         geometry = _geometry(geo, g, processing, accuracy)
         tiling, held = _plan(raw, alg, g.nx, g.ny, memory_limit, out is None, spread, up, geometry)
@@ -257,8 +258,8 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
         tiling, held = _plan(raw, alg, g0.nx if g0 else 256, g0.ny if g0 else 256, memory_limit, out is None, spread,
                              up)
     if tiling.pulse_block < P:  # the signal is read and range-compressed a block at a time
-        pulses = DatasetPulses(raw, chirp, noise_fix)
-        ph = pulses.geometry()
+        pulses = source or DatasetPulses(raw, chirp, noise_fix)
+        ph = geo if source is not None else pulses.geometry()
     else:
         source = raw.encoding.get("source")
         with lazy_reads("signal", source):
