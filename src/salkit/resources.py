@@ -20,8 +20,9 @@ from multiprocessing import resource_tracker as _resource_tracker
 import lazy_loader as _lazy
 
 from .errors import EnvironmentProblem, ResourceError, ScenarioError
+from ._lazy import load as _deferred
 
-_dask_distributed = _lazy.load("dask.distributed", suppress_warning=True)
+_dask_distributed = _deferred("dask.distributed")  # not lazy_loader: it imports dask itself at once
 _numba = _lazy.load("numba", suppress_warning=True)
 
 _LIMIT: int | None = None

@@ -204,7 +204,7 @@ class _Bar:
         self.p.__exit__(*exc)
 
     def __call__(self, stage: str, done: int, total: int):
-        from ..io.runfolder import INTERRUPTED
+        from ..interrupts import INTERRUPTED
         if INTERRUPTED["signal"] is not None:
             raise KeyboardInterrupt(f"signal {INTERRUPTED['signal']}")
         if stage not in self.tasks:

@@ -25,7 +25,7 @@ for _command in COMMANDS:
 
 
 def _on_signal(signum, frame):  # pragma: no cover - exercised by subprocess tests
-    from ..io.runfolder import INTERRUPTED
+    from ..interrupts import INTERRUPTED
     INTERRUPTED["signal"] = signum
     raise KeyboardInterrupt(f"signal {signum}")
 
@@ -50,7 +50,7 @@ def main():  # pragma: no cover
     except KeyboardInterrupt:  # an interrupt that escaped the command (e.g. while it was exiting):
         sys.exit(130)          # the run folder is already discarded; exit as interrupted, not by SIGINT
     finally:
-        from ..io.runfolder import INTERRUPTED
+        from ..interrupts import INTERRUPTED
         if INTERRUPTED["signal"] is not None:  # the command has cleaned up; leave now, with 130, rather
             sys.stdout.flush()                 # than run finalisers the interrupt may have cut short
             sys.stderr.flush()                 # (numba compiling): one of them re-raising it would
@@ -61,7 +61,7 @@ def _unraisable(u):  # pragma: no cover - exercised by the signal tests
     """After an interrupt, Python reports as ignored exceptions, with tracebacks, our interrupt raised
     inside a finaliser or a ctypes callback, and the finalisers of what it cut short (llvmlite's,
     when numba was compiling); the run is discarded anyway: keep them quiet."""
-    from ..io.runfolder import INTERRUPTED
+    from ..interrupts import INTERRUPTED
     if INTERRUPTED["signal"] is not None:
         return
     sys.__unraisablehook__(u)

@@ -21,7 +21,6 @@ import math
 from dataclasses import dataclass
 from typing import Callable, NamedTuple, Optional
 
-import lazy_loader as _lazy
 import numpy as np
 
 from ..errors import DataFileError, ResourceError, ScenarioError
@@ -32,8 +31,9 @@ from ..signals.windows import Window
 from ..registry import FORMERS
 from .formers import ImageGrid, Sizes, former_spec
 from .phasehistory import PhaseHistory, phase_history
+from .._lazy import load as _deferred
 
-_dask_distributed = _lazy.load("dask.distributed", suppress_warning=True)
+_dask_distributed = _deferred("dask.distributed")  # not lazy_loader: it imports dask itself at once
 
 #: Smallest tile side, pixels.
 MIN_TILE = 32

@@ -21,13 +21,11 @@ import uuid
 from pathlib import Path
 
 from ..errors import DataFileError, EnvironmentProblem, ScenarioError
+from ..interrupts import INTERRUPTED
 from .. import __version__
 
 MANIFEST = "manifest.json"
 
-#: Set by the command line's SIGINT/SIGTERM handler: a run that completes after it is discarded
-#: (a handler's exception can be swallowed when it lands inside a finaliser).
-INTERRUPTED = {"signal": None}
 #: What the last failed or interrupted run kept for resuming: the ``.NAME.resume`` folder and the
 #: output folder it belongs to (None when nothing was kept), so that the command can say so.
 KEPT_FOR_RESUME: dict = {"resume": None, "out": None}

@@ -12,8 +12,9 @@ from ..params.models import Scenario
 from ..params.scenario import dump_scenario, parse_scenario
 from ..resources import dask_client, task_numba_threads
 from .subapertures import nearest_squints, point_target, squint_of, subimage
+from .._lazy import load as _deferred
 
-_dask_distributed = _lazy.load("dask.distributed", suppress_warning=True)
+_dask_distributed = _deferred("dask.distributed")  # not lazy_loader: it imports dask itself at once
 zarr = _lazy.load("zarr", suppress_warning=True)
 
 

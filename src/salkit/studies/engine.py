@@ -14,7 +14,6 @@ import time
 from pathlib import Path
 from typing import Callable, Optional
 
-import lazy_loader as _lazy
 import numpy as np
 import xarray as xr
 import yaml
@@ -27,8 +26,9 @@ from ..resources import task_numba_threads
 from ..units import theory_name, unit_of
 from .plan import SweepPlan, make_plan, require_valid
 from .spec import Axis, parse_vary
+from .._lazy import load as _deferred
 
-_dask_distributed = _lazy.load("dask.distributed", suppress_warning=True)
+_dask_distributed = _deferred("dask.distributed")  # not lazy_loader: it imports dask itself at once
 
 def select_metrics(metrics: dict, wanted) -> dict:
     """The numeric metrics a sweep keeps: ``wanted`` (all when empty) and each one's theory value.
