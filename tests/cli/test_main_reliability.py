@@ -16,6 +16,7 @@ from typer.testing import CliRunner
 from salkit.cli.main import app
 
 from ..conftest import EXAMPLES, SPOT, merge
+from .conftest import salkit as here
 
 runner = CliRunner()
 # about 6 s: 220,000 scatterers
@@ -24,7 +25,7 @@ SLOW = merge(SPOT, processing__grid={"nx": 512, "ny": 512, "dx": 0.005, "dy": 0.
                                                                "extent": [1.4, 1.4], "spacing": 0.003}})
 
 
-def cli(*args, **kw):
+def cli(*args, **kw):  # a real process (signals, the entry point, its stderr); ``here`` runs the rest in-process
     return subprocess.run([sys.executable, "-m", "salkit.cli.main", *map(str, args)], capture_output=True,
                           text=True, **kw)
 
@@ -71,32 +72,32 @@ def test_interrupted_run_leaves_nothing(tmp_path, slow, sig):
 
 
 def test_interrupted_overwrite_keeps_the_old_run(tmp_path, scen, slow):
-    assert cli("run", scen, "--out", tmp_path / "out").returncode == 0
+    assert here("run", scen, "--out", tmp_path / "out").returncode == 0
     before = (tmp_path / "out" / "manifest.json").read_text()
     p = popen("run", slow, "--out", tmp_path / "out", "--overwrite")
     assert _wait_for_tmp(tmp_path, "out", p)
     p.send_signal(signal.SIGINT)
     p.communicate(timeout=60)
     assert (tmp_path / "out" / "manifest.json").read_text() == before
-    assert cli("verify", tmp_path / "out").returncode == 0
+    assert here("verify", tmp_path / "out").returncode == 0
     assert sorted(x.name for x in tmp_path.iterdir()) == ["out", "s.yaml", "slow.yaml"]
 
 
 def test_concurrent_runs_leave_exactly_one(tmp_path, slow):
     a = popen("run", slow, "--out", tmp_path / "out")
     assert _wait_for_tmp(tmp_path, "out", a)
-    b = cli("run", slow, "--out", tmp_path / "out")
+    b = here("run", slow, "--out", tmp_path / "out")
     assert b.returncode == 1 and "another salkit run" in b.stderr, b.stderr
     a.communicate(timeout=300)
     assert a.returncode == 0
-    assert cli("verify", tmp_path / "out").returncode == 0
-    c = cli("run", slow, "--out", tmp_path / "out")  # finished folder: refused without --overwrite
+    assert here("verify", tmp_path / "out").returncode == 0
+    c = here("run", slow, "--out", tmp_path / "out")  # finished folder: refused without --overwrite
     assert c.returncode == 2 and "--overwrite" in c.stderr
 
 
 def test_manifest_and_verify(tmp_path, scen):
     out = tmp_path / "out"
-    assert cli("run", scen, "--out", out).returncode == 0
+    assert here("run", scen, "--out", out).returncode == 0
     m = json.loads((out / "manifest.json").read_text())
     assert m["status"] == "complete" and m["salkit_version"] and m["scenario_sha256"] and m["run_id"]
     names = {f["path"] for f in m["files"]}
@@ -113,7 +114,7 @@ def test_manifest_and_verify(tmp_path, scen):
 def test_corrupted_signal_refused_naming_the_variable(tmp_path, scen):
     import h5py
     raw = tmp_path / "raw.nc"
-    assert cli("simulate", scen, "--out", raw).returncode == 0
+    assert here("simulate", scen, "--out", raw).returncode == 0
     with h5py.File(raw, "r") as f:
         assert f["signal"].fletcher32
         off = f["signal"].id.get_chunk_info(0).byte_offset
@@ -264,7 +265,7 @@ def test_interrupted_focus_on_a_dask_cluster_leaves_nothing(tmp_path, when):
     scen = tmp_path / "s.yaml"
     scen.write_text(yaml.safe_dump(merge(SPOT, processing__grid={"nx": 1024, "ny": 1024, "dx": 0.005,
                                                                   "dy": 0.005})))
-    assert cli("simulate", scen, "--out", tmp_path / "raw.nc").returncode == 0
+    assert here("simulate", scen, "--out", tmp_path / "raw.nc").returncode == 0
     p = subprocess.Popen([sys.executable, "-m", "salkit.cli.main", "focus", tmp_path / "raw.nc", "--algorithm", "bp",
                           "--workers", "2", "--memory-limit", "8MiB", "--out", tmp_path / "out"],
                          stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, start_new_session=True)
