@@ -21,6 +21,12 @@ def test_a_missing_attribute_is_an_attribute_error():
         load("json").no_such_thing
 
 
+def test_a_copy_does_not_recurse():
+    import copy
+    m = copy.copy(load("json"))
+    assert m.dumps([1]) == "[1]"
+
+
 def test_the_library_loads_dask_only_for_dask_work():
     # every module that talks to a cluster, and what `salkit run` loads: 0.3 s less of every command
     code = ("import sys\n"

@@ -31,6 +31,8 @@ class Deferred:
         self._module = None
 
     def __getattr__(self, attr: str):
+        if attr in Deferred.__slots__:  # not yet set (a copy being made): no recursion through _module
+            raise AttributeError(attr)
         if self._module is None:
             self._module = importlib.import_module(self._name)
         return getattr(self._module, attr)
