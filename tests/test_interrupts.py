@@ -15,7 +15,7 @@ try:
     main()
 except SystemExit as e:
     assert e.code in (0, None), e.code
-heavy = sorted(m for m in ("xarray", "numba", "pandas", "scipy", "matplotlib", "dask", "salkit.io", "salkit.focus")
+heavy = sorted(m for m in ("xarray", "numba.core", "pandas", "scipy", "matplotlib", "dask", "salkit.io", "salkit.focus")
                if m in sys.modules)
 print("LOADED", heavy)
 """

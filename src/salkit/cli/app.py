@@ -112,7 +112,7 @@ def _guard(fn):
     busy folder), 130 when interrupted, each with one line; ``--debug`` shows the traceback."""
     @functools.wraps(fn)
     def wrapper(*a, **k):
-        from ..io.runfolder import KEPT_FOR_RESUME
+        from ..interrupts import KEPT_FOR_RESUME
         KEPT_FOR_RESUME.update(resume=None, out=None)
         try:
             return _limited(fn, *a, **k)

@@ -21,14 +21,11 @@ import uuid
 from pathlib import Path
 
 from ..errors import DataFileError, EnvironmentProblem, ScenarioError
-from ..interrupts import INTERRUPTED
+from ..interrupts import INTERRUPTED, KEPT_FOR_RESUME
 from .. import __version__
 
 MANIFEST = "manifest.json"
 
-#: What the last failed or interrupted run kept for resuming: the ``.NAME.resume`` folder and the
-#: output folder it belongs to (None when nothing was kept), so that the command can say so.
-KEPT_FOR_RESUME: dict = {"resume": None, "out": None}
 
 
 def sha256_file(path: Path, chunk: int = 1 << 20) -> str:
