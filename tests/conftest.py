@@ -51,6 +51,33 @@ def pytest_collection_modifyitems(session, config, items):
     items.sort(key=key)  # stable: the rest keep their order
 
 
+#: A ``salkit`` command in a fresh interpreter, entry point and exit included: its exit status and what it
+#: loaded of the modules named (numba.core, not numba: lazy_loader puts a stand-in "numba" in sys.modules).
+_FRESH = """
+import sys
+watch, sys.argv = sys.argv[1].split(","), ["salkit"] + sys.argv[2:]
+from salkit.cli.main import main
+code = 0
+try:
+    main()
+except SystemExit as e:
+    code = e.code
+print("EXIT", code)
+print("LOADED", sorted(m for m in watch if m in sys.modules))
+"""
+
+
+def fresh_command(args, watch):
+    """Run ``salkit ARGS`` in a fresh interpreter: (exit status as printed, the watched modules it
+    loaded, stdout before those two lines, stderr)."""
+    import subprocess
+    r = subprocess.run([sys.executable, "-c", _FRESH, ",".join(watch), *map(str, args)], capture_output=True,
+                       text=True, timeout=120)
+    lines = r.stdout.rstrip().splitlines()
+    assert len(lines) >= 2 and lines[-2].startswith("EXIT ") and lines[-1].startswith("LOADED "), (r.stdout, r.stderr)
+    return lines[-2][5:], lines[-1][7:], "\n".join(lines[:-2]), r.stderr
+
+
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"
 DL_EXAMPLE = EXAMPLES / "downlooking_3d.yaml"

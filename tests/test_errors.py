@@ -15,3 +15,13 @@ def test_scenario_error_names_field_value_and_constraint():
 def test_exit_codes(cls, code):
     e = cls("f", 1, "c") if issubclass(cls, ScenarioError) else cls("message")
     assert isinstance(e, SalkitError) and e.exit_code == code
+
+
+def test_require_scenario_file_names_a_folder_and_a_missing_file(tmp_path):
+    from salkit.errors import require_scenario_file
+    with pytest.raises(ScenarioError, match="is a folder, not a YAML file"):
+        require_scenario_file(tmp_path)
+    with pytest.raises(ScenarioError, match="'nothere.yaml': file does not exist"):
+        require_scenario_file("nothere.yaml")
+    (tmp_path / "s.yaml").write_text("a: 1\n")
+    assert require_scenario_file(tmp_path / "s.yaml") is None

@@ -1,6 +1,8 @@
 """Errors that the command line turns into a clear message and exit status 2."""
 from __future__ import annotations
 
+from pathlib import Path
+
 
 class SalkitError(Exception):
     """Base class of every error salkit reports to a user without a traceback."""
@@ -43,3 +45,23 @@ class EnvironmentProblem(SalkitError):
 
 class ResourceError(SalkitError):
     """A job too big for the machine, refused before any work (exit status 2, with the numbers)."""
+
+
+def require_scenario_file(path) -> None:
+    """Refuse a scenario path that is a folder or names no file (the checks that need nothing
+    loaded: the command line makes them before the library loads, and the reader of the file).
+
+    Parameters
+    ----------
+    path : str or path-like
+
+    Raises
+    ------
+    ScenarioError
+        For a folder or a missing file.
+    """
+    p = Path(path)
+    if p.is_dir():
+        raise ScenarioError("scenario", str(p), "is a folder, not a YAML file")
+    if not p.is_file():
+        raise ScenarioError("scenario", str(p), "file does not exist")

@@ -5,6 +5,7 @@ import pytest
 from salkit.cli.options import _check_out_file, _grid, _origin
 from salkit.errors import ScenarioError
 
+from ..conftest import fresh_command
 from .conftest import salkit
 
 
@@ -85,29 +86,12 @@ def test_a_scenario_given_where_data_are_expected_says_so(tmp_path):
         assert r.returncode == 2 and "scenario file" in r.stderr and "salkit run" in r.stderr, r.stderr
 
 
-# the command as a user types it, in a fresh interpreter: its exit status, its message, what it loaded
-# (numba.core: lazy_loader puts a stand-in "numba" in sys.modules before any use)
-_EARLY = """
-import sys
-sys.argv = ["salkit"] + sys.argv[1:]
-from salkit.cli.main import main
-try:
-    main()
-except SystemExit as e:
-    print("EXIT", e.code)
-print("LOADED", sorted(m for m in ("xarray", "numba.core", "matplotlib", "salkit.io", "salkit.params") if m in sys.modules))
-"""
-
-
 @pytest.mark.parametrize("argv", [["run", "{missing}", "--out", "{tmp}/o"], ["simulate", "{tmp}", "--out", "{tmp}/r.nc"],
                                   ["sweep", "{missing}", "--vary", "waveform.prf=1,2", "--out", "{tmp}/s"]])
 def test_a_missing_scenario_is_refused_before_the_library_loads(tmp_path, argv):
     """A mistyped scenario path is told in under a second, not after 3 s of imports (a slow core)."""
-    import subprocess
-    import sys
     args = [a.replace("{missing}", str(tmp_path / "nothere.yaml")).replace("{tmp}", str(tmp_path)) for a in argv]
-    r = subprocess.run([sys.executable, "-c", _EARLY, *args], capture_output=True, text=True, timeout=120)
-    lines = r.stdout.strip().splitlines()
-    assert lines[-2:] == ["EXIT 2", "LOADED []"], (r.stdout, r.stderr)
-    assert ("file does not exist" if "{missing}" in argv else "is a folder") in " ".join(r.stderr.split())
+    code, loaded, _, stderr = fresh_command(args, ("xarray", "numba.core", "matplotlib", "salkit.io", "salkit.params"))
+    assert (code, loaded) == ("2", "[]"), (code, loaded, stderr)
+    assert ("file does not exist" if "{missing}" in argv else "is a folder") in " ".join(stderr.split())
     assert sorted(p.name for p in tmp_path.iterdir()) == []

@@ -11,18 +11,6 @@ import typer
 from .app import err, out
 
 
-def _scenario_file(path: Path) -> None:
-    """A scenario path that is a folder or names no file, refused before the library loads (3 s
-    of imports on a slow core before the same message): the first checks of
-    :func:`salkit.params.scenario.read_yaml`, which reads it."""
-    from ..errors import ScenarioError
-    p = Path(path)
-    if p.is_dir():
-        raise ScenarioError("scenario", str(p), "is a folder, not a YAML file")
-    if not p.is_file():
-        raise ScenarioError("scenario", str(p), "file does not exist")
-
-
 def _examples_dir() -> Path:
     from ..params.scenario import examples_dir
     return examples_dir()

@@ -7,8 +7,9 @@ from typing import List, Optional
 
 import typer
 
+from ..errors import require_scenario_file
 from .app import _Bar, _command_line, _guard, out
-from .options import _check_dask_options, _check_out_file, _preflight, _scenario_file, _summary, apply_memory_limit
+from .options import _check_dask_options, _check_out_file, _preflight, _summary, apply_memory_limit
 
 
 @_guard
@@ -22,7 +23,7 @@ def run(scenario: Path = typer.Argument(..., metavar="SCENARIO.yaml", help="scen
         dry_run: bool = typer.Option(False, "--dry-run", help="validate the scenario, sampling and memory; write nothing"),
         memory_limit: Optional[str] = typer.Option(None, "--memory-limit", metavar="SIZE", help="memory budget, e.g. 512MiB or 4GiB (default: what is available): focusing beyond it runs in tiles of the image (bp, ffbp)")):
     """Simulate, focus, measure, draw and report one scenario (into a folder that is complete or absent)."""
-    _scenario_file(scenario)
+    require_scenario_file(scenario)  # before the library loads (3 s of imports on a slow core)
     from ..io.runfolder import RunFolder
     from ..params import load_scenario
     from ..report import run_scenario
@@ -50,7 +51,7 @@ def simulate(scenario: Path = typer.Argument(..., metavar="SCENARIO.yaml", help=
              workers: Optional[int] = typer.Option(None, metavar="N", help="compute the blocks of pulses on a local Dask cluster of N worker processes (the same numbers; each worker holds the scene)"),
              scheduler: Optional[str] = typer.Option(None, metavar="ADDRESS", help="compute the blocks on an existing Dask cluster, e.g. tcp://host:8786 (mesh files at paths the workers reach)")):
     """Simulate raw dechirped data and write it to a NetCDF file."""
-    _scenario_file(scenario)
+    require_scenario_file(scenario)  # before the library loads (3 s of imports on a slow core)
     from ..focus.pipeline import memory_budget
     from ..io import write_dataset
     from ..params import load_scenario

@@ -7,8 +7,8 @@ from typing import List, Optional
 
 import typer
 
+from ..errors import require_scenario_file
 from .app import _Bar, _command_line, _guard, out
-from .options import _scenario_file
 
 
 @_guard
@@ -26,7 +26,7 @@ def sweep(scenario: Path = typer.Argument(..., metavar="SCENARIO.yaml", help="ba
           keep_images: bool = typer.Option(False, "--keep-images", help="also keep every run's image in DIR/images/ (p<point>_r<realisation>_image.nc)")):
     """Sweep scenario fields (a grid or zipped axes) with realisations: every metric against them,
     median and spread, theory beside it, in sweep.nc and report.html."""
-    _scenario_file(scenario)
+    require_scenario_file(scenario)  # before the library loads (3 s of imports on a slow core)
     from ..errors import ScenarioError
     from ..io.runfolder import RunFolder
     from ..report.sweeps import CHECKPOINT, IMAGES, run_sweep

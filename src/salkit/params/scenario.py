@@ -10,7 +10,7 @@ from typing import Any, Iterable, Mapping
 import yaml
 from pydantic import BaseModel, TypeAdapter, ValidationError
 
-from ..errors import ScenarioError
+from ..errors import ScenarioError, require_scenario_file
 from .base import FieldProblem
 from .models import AnyScenario, DownlookingScenario, Scenario
 from ..errors import EnvironmentProblem
@@ -262,11 +262,8 @@ def read_yaml(path: str | Path) -> dict:
     ScenarioError
         For a missing file, a folder, non-UTF-8 text, invalid YAML or a non-mapping.
     """
+    require_scenario_file(path)
     p = Path(path)
-    if p.is_dir():
-        raise ScenarioError("scenario", str(p), "is a folder, not a YAML file")
-    if not p.is_file():
-        raise ScenarioError("scenario", str(p), "file does not exist")
     try:
         data = yaml.safe_load(p.read_text(encoding="utf-8"))
     except UnicodeDecodeError as err:
