@@ -30,4 +30,3 @@ def test_readme_simulate_convert_and_sicd_lines_run(tmp_path, monkeypatch):
     r = salkit(*_line("salkit focus pass.mat"))
     assert r.returncode == 0, r.stderr
     assert list((tmp_path / "out3").glob("*.nitf")), sorted(p.name for p in (tmp_path / "out3").iterdir())
-

@@ -7,7 +7,7 @@ from typing import List, Optional
 
 import typer
 
-from ..errors import require_scenario_file
+from ..errors import ScenarioError, require_scenario_file
 from .app import _Bar, _command_line, _guard, out
 
 
@@ -27,7 +27,6 @@ def sweep(scenario: Path = typer.Argument(..., metavar="SCENARIO.yaml", help="ba
     """Sweep scenario fields (a grid or zipped axes) with realisations: every metric against them,
     median and spread, theory beside it, in sweep.nc and report.html."""
     require_scenario_file(scenario)  # before the library loads (3 s of imports on a slow core)
-    from ..errors import ScenarioError
     from ..io.runfolder import RunFolder
     from ..report.sweeps import CHECKPOINT, IMAGES, run_sweep
     from ..systems.study import prepare

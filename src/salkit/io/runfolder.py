@@ -27,7 +27,6 @@ from .. import __version__
 MANIFEST = "manifest.json"
 
 
-
 def sha256_file(path: Path, chunk: int = 1 << 20) -> str:
     """SHA-256 of a file's bytes (hex).
 

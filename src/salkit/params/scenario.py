@@ -10,10 +10,9 @@ from typing import Any, Iterable, Mapping
 import yaml
 from pydantic import BaseModel, TypeAdapter, ValidationError
 
-from ..errors import ScenarioError, require_scenario_file
+from ..errors import EnvironmentProblem, ScenarioError, require_scenario_file
 from .base import FieldProblem
 from .models import AnyScenario, DownlookingScenario, Scenario
-from ..errors import EnvironmentProblem
 
 _ADAPTER = TypeAdapter(AnyScenario)
 
