@@ -29,7 +29,8 @@ run by :mod:`runner`, which writes ``benchmarks/last_run.json``.
 - ffbp: fast factorised backprojection against direct backprojection at 512^2, 1024^2 and 4096^2
   pixels (as many pulses), direct BP timed on a block of rows and scaled, both the best of the
   same number of runs; ffbp_knobs: the accuracy-speed curve over the polar-grid oversampling and
-  the leaf size at 1024^2.
+  the leaf size at 1024^2; ffbp_arcs: arcs of 60 degrees to a full circle against the exact
+  matched filter, formed in parts and (to 170 degrees) as one tree, direct BP's time beside.
 - accuracy (benchmarks/accuracy.py): every former (bp, bp at 32x, ffbp, ffbp high, pfa) on the
   test geometries against the exact float64 matched filter: error energy, bright-pixel phase
   error, time; the wide-angle arc from 101^2 to 2001^2 pixels.

@@ -22,7 +22,7 @@ sys.path.insert(0, str(HERE))
 
 #: Every benchmark, in the order ``make bench`` runs them (each ``benchmarks/<name>.py``).
 ORDER = ("backprojection", "pfa", "simulation", "fast_simulation", "screens", "pga", "chirp", "spaceborne", "downlooking", "outside",
-         "startup", "ffbp", "ffbp_knobs", "ffbp_scaling", "accuracy", "peers", "scaling", "propagation", "turbulence_wave_optics",
+         "startup", "ffbp", "ffbp_knobs", "ffbp_arcs", "ffbp_scaling", "accuracy", "peers", "scaling", "propagation", "turbulence_wave_optics",
          "wave_structure_function", "sweep", "tiles", "budgets")
 
 

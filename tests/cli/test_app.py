@@ -42,3 +42,25 @@ def test_guard_passes_results_and_exits_through():
 def test_warning_is_one_line(capsys):
     show_warning(UserWarning("grid [coarse]"), UserWarning, "f.py", 1)
     assert capsys.readouterr().err.strip() == "warning: grid [coarse]"
+
+
+def test_a_kernel_compiling_is_said_once_and_a_cached_one_is_not(capsys, monkeypatch):
+    """numba compiles a salkit kernel on its first use on a machine (a cache miss): the progress bar
+    says so once on stderr, before the kernel compiles; a function outside salkit, and a second
+    salkit kernel, say nothing more."""
+    import numba
+    from salkit.cli import app as app_module
+    monkeypatch.setitem(app_module._COMPILING, "said", False)
+
+    def kernel(name):  # a fresh, uncached dispatcher whose function lives in module `name`
+        scope = {"__name__": name}
+        exec("def f(x):\n    return x + 1\n", scope)
+        return numba.njit(scope["f"])
+
+    with app_module._Bar():
+        assert kernel("elsewhere")(1) == 2
+    assert app_module.COMPILE_NOTICE not in capsys.readouterr().err
+    with app_module._Bar():
+        assert kernel("salkit._probe")(1) == 2
+        assert kernel("salkit._probe2")(2) == 3
+    assert capsys.readouterr().err.count("compiling salkit's numba kernels") == 1

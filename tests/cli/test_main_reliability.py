@@ -198,7 +198,8 @@ def test_read_only_place_exits_1(tmp_path, scen):
     (["screen", "--n", "64", "--dx", "0.01", "--r0", "0.05", "--out", "{tmp}"], 2, "is a folder"),
     (["simulate", "{scen}", "--out", "{scen}"], 2, "exists; pass --overwrite"),
     (["run", "{geo}", "--out", "{tmp}/g", "--scheduler", "foo"], 2, "tcp://HOST:PORT"),
-    (["run", "{geo}", "--out", "{tmp}/g", "--workers", "0"], 2, "stack.workers"),
+    (["run", "{geo}", "--out", "{tmp}/g", "--workers", "-1"], 2, "stack.workers"),
+    (["run", "{geo}", "--out", "{tmp}/g", "--workers", "0", "--scheduler", "tcp://h:8786"], 2, "contradict"),
     (["run", "{scen}", "--out", "{tmp}/a", "--set", "waveform.bandwidth.x=1"], 2, "is a value, not a section"),
     (["--max-memory", "lots", "info", "{scen}"], 2, "--max-memory"),
 ])

@@ -150,10 +150,11 @@ def test_upsample_overrides_the_processing_and_is_checked():
 def test_a_runs_plan_weighs_ffbp_on_the_collection_it_will_simulate():
     """`salkit run` plans before simulating: FFBP's geometry there (the positions, the range-compressed
     frequencies, the grid) is the one focus() then weighs, so both count the same footprint; a
-    trajectory FFBP cannot form (pulses past the scene) is refused then, before any work."""
+    track over the scene, which one FFBP tree cannot form, is planned in parts, the pulses over the
+    scene backprojected directly."""
     from salkit.errors import ScenarioError
     from salkit.focus import phase_history
-    from salkit.focus.ffbp import ffbp_footprint
+    from salkit.focus.ffbp import ffbp_footprint, ffbp_layout, plan_parts
     from salkit.focus.formers import ImageGrid
     from salkit.focus.pipeline import _scenario_geometry, run_memory_plan
     sc = parse_scenario(merge(SPOT, processing={**SPOT["processing"], "algorithm": "ffbp"}))
@@ -168,5 +169,9 @@ def test_a_runs_plan_weighs_ffbp_on_the_collection_it_will_simulate():
     assert _scenario_geometry(parse_scenario(SPOT), 16) is None  # bp's memory follows the sizes
     over = [(float(x), -float(y), 0.0) for x, y in ((-3.0, 4000.0), (0.0, -10.0), (3.0, 4000.0))]
     beyond = parse_scenario(merge(SPOT, processing={**SPOT["processing"], "algorithm": "ffbp"}, platform={**SPOT["platform"], "positions": over}))
+    geo = _scenario_geometry(beyond, raw["signal"].shape[1])
     with pytest.raises(ScenarioError, match="past it"):
-        run_memory_plan(beyond)
+        ffbp_layout(geo.positions, geo.freq, geo.grid)
+    parts = plan_parts(geo.positions, geo.freq, geo.grid)
+    assert "direct" in {k for k, _, _ in parts} and parts[-1][2] == geo.positions.shape[0]
+    assert not run_memory_plan(beyond).tiled

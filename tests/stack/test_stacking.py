@@ -51,6 +51,29 @@ def test_dask_stack_checkpoint_and_resume(tmp_path):
     np.testing.assert_allclose(stacked, seq, rtol=1e-4, atol=1e-6 * seq.max())
 
 
+def test_stack_in_this_process_checkpoints_resumes_and_equals_the_sequential_stack(tmp_path):
+    """workers=0: no cluster; a run killed after 2 of 6 sub-images resumes and computes only the
+    remaining 4, and the stack equals the sequential one (the same seeds, the same kernels). A
+    worker count below 0, or 0 beside a scheduler, is refused before anything is written."""
+    from salkit.stack import run_stack, squint_of
+    sc = parse_scenario(merge(_geo_scene(5.0).model_dump(mode="json"),
+                              processing={"algorithm": "bp", "grid": {"nx": 32, "ny": 32, "dx": 0.04, "dy": 0.04}}))
+    store = tmp_path / "stack.zarr"
+    squints = [squint_of(i, 6, 5.0) for i in range(6)]
+    seen = []
+    with pytest.raises(KeyboardInterrupt):
+        run_stack(sc, squints, store, workers=0, stop_after=2, progress=lambda d, n: seen.append((d, n)))
+    assert seen == [(1, 6), (2, 6)]
+    stacked, computed = run_stack(sc, squints, store, workers=0)
+    assert computed == 4
+    seq, _ = stack(sc, 6, 5.0)
+    np.testing.assert_allclose(stacked, seq, rtol=1e-6, atol=1e-9 * seq.max())
+    for workers, scheduler in ((-1, None), (0, "tcp://127.0.0.1:9")):
+        with pytest.raises(ValueError, match=f"workers = {workers}"):
+            run_stack(sc, squints, tmp_path / "no.zarr", workers=workers, scheduler=scheduler)
+    assert not (tmp_path / "no.zarr").exists()
+
+
 def test_unreachable_scheduler_fails_fast(tmp_path):
     import time
     from salkit.errors import SalkitError

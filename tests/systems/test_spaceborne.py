@@ -82,13 +82,14 @@ def test_single_subimage_snr_within_10_percent():
 def test_coherent_stack_mode_from_the_scenario(tmp_path):
     """stack.mode = coherent: the complex sum is written beside the incoherent one, its resolution
     narrows as 1/P (point target, within 2 % of the combined aperture's theory) and its one-look
-    SNR stays near 1 while the incoherent stack's grows."""
+    SNR stays near 1 while the incoherent stack's grows. In this process (stack.workers = 0); the
+    test above runs the stack on a local cluster."""
     import json
 
     from salkit.params import load_scenario
     from salkit.report import run_scenario as run_experiment
     from ..conftest import EXAMPLES
-    sc = load_scenario(EXAMPLES / "spaceborne_geo.yaml", ["stack.max_subimages=4", "stack.mode=coherent",
+    sc = load_scenario(EXAMPLES / "spaceborne_geo.yaml", ["stack.max_subimages=4", "stack.mode=coherent", "stack.workers=0",
                                                           "processing.grid={nx: 64, ny: 48, dx: 0.08, dy: 0.08}",
                                                           "waveform.bandwidth=1.5e9", "experiment.resolution=0.1"])
     run_experiment(sc, tmp_path)

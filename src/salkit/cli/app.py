@@ -179,6 +179,36 @@ def _main(debug: bool = typer.Option(False, "--debug", help="show tracebacks"),
         raise typer.Exit(code=2)
 
 
+#: Said once a process, on stderr, when numba starts compiling one of salkit's kernels (a cache miss:
+#: the first run on a machine, or after an upgrade). Without it a first run sits silent for a minute.
+COMPILE_NOTICE = ("note: compiling salkit's numba kernels for this CPU, once (they are cached for later runs): "
+                  "a first run takes up to a minute or two longer")
+_COMPILING = {"listening": False, "said": False}
+
+
+def _announce_compiling() -> None:
+    """Listen for numba's compile events (cache misses only; loading from the cache fires none) and
+    say :data:`COMPILE_NOTICE` once, before the first of salkit's kernels compiles."""
+    if _COMPILING["listening"]:
+        return
+    from numba.core import event
+
+    class _Notice(event.Listener):
+        def on_start(self, ev):
+            if _COMPILING["said"]:
+                return
+            fn = getattr(ev.data.get("dispatcher"), "py_func", None)
+            if getattr(fn, "__module__", "").startswith("salkit."):
+                _COMPILING["said"] = True
+                err.print(COMPILE_NOTICE, highlight=False, soft_wrap=True)
+
+        def on_end(self, ev):
+            pass
+
+    event.register("numba:compile", _Notice())
+    _COMPILING["listening"] = True
+
+
 class _Bar:
     """Rich progress bar driven by ``progress(stage, done, total)`` callbacks: one bar per stage,
     the stage named in the unit of its work (``pulses simulated``, ``sub-images``, ...), whose first
@@ -192,6 +222,7 @@ class _Bar:
         self.tasks = {}
 
     def __enter__(self):
+        _announce_compiling()  # the work about to run may compile first
         self.p.__enter__()
         return self
 

@@ -17,7 +17,7 @@ def run(scenario: Path = typer.Argument(..., metavar="SCENARIO.yaml", help="scen
         out_dir: Path = typer.Option(..., "--out", metavar="DIR", help="output folder (complete or absent after the run)"),
         set_: List[str] = typer.Option([], "--set", metavar="KEY=VALUE", help="override a field in its SI unit, e.g. waveform.prf=2000 (Hz); repeatable"),
         algorithm: Optional[str] = typer.Option(None, metavar="NAME", help="override processing.algorithm: {formers}"),
-        workers: Optional[int] = typer.Option(None, metavar="N", help="Dask worker processes of a local cluster (stacking runs; default: one per core)"),
+        workers: Optional[int] = typer.Option(None, metavar="N", help="worker processes of the local Dask cluster a stacking run starts (default: the scenario's stack.workers, 2 if unset); 0: the sub-images in this process, no cluster"),
         scheduler: Optional[str] = typer.Option(None, metavar="ADDRESS", help="address of an existing Dask scheduler, e.g. tcp://host:8786"),
         overwrite: bool = typer.Option(False, "--overwrite", help="replace a non-empty --out once the new run is complete"),
         dry_run: bool = typer.Option(False, "--dry-run", help="validate the scenario, sampling and memory; write nothing"),

@@ -532,7 +532,9 @@ class StackSettings(_Frozen):
     """Sub-image stacking at scale (seed 001)."""
 
     max_subimages: Optional[int] = Field(default=None, ge=1, description="the N sub-apertures nearest closest approach")
-    workers: int = Field(default=2, ge=1, le=64)
+    workers: int = Field(default=2, ge=0, le=64, description=(
+        "worker processes of the local Dask cluster started for the stack; 0: the sub-images in this "
+        "process, no cluster (a cluster's start, about 8 s on 2 cores, outweighs a stack of tens)"))
     mode: Literal[STACK_MODES] = Field(default="incoherent", description=(
         "incoherent: mean intensity (speckle and noise average down, resolution stays); coherent: "
         "phase-aligned complex sum (the combined aperture's finer resolution, one look)"))
@@ -544,6 +546,13 @@ class StackSettings(_Frozen):
         if v is not None and not re.fullmatch(r"(tcp|tls|ws|wss|ucx|inproc)://[^\s/:]+(:\d{1,5})?|[^\s/:]+:\d{1,5}", v):
             raise ValueError(f"scheduler address {v!r} must look like tcp://HOST:PORT (or HOST:PORT)")
         return v
+
+    @model_validator(mode="after")
+    def _where(self) -> "StackSettings":
+        if self.workers == 0 and self.scheduler is not None:
+            raise ValueError(f"workers = 0 (in this process) and scheduler = {self.scheduler!r} (an existing "
+                             "cluster) contradict each other: give one")
+        return self
 
 
 class SpaceborneExperiment(_Frozen):

@@ -6,7 +6,7 @@ which point-target and speckled scenes are simulated exactly (:mod:`salkit.simul
 * ``wide_angle``: an airborne X-band collection like the ones users bring (9.29 GHz, 424
   frequencies in 1.47 MHz steps, 469 pulses over a 4-degree arc of a 7 km radius circle at 7.3 km
   height, about 46 degrees depression, slant range about 10 km, starting at azimuth 0), level or
-  climbing (``climb`` metres over the pass), ground or slant plane, and arcs of up to 180 degrees;
+  climbing (``climb`` metres over the pass), ground or slant plane, and arcs of up to a full circle;
 * ``seed``: the seed papers' 1.55 um spotlight geometries at 5 km, 200 km and 560 km (straight
   tracks, the apertures and bandwidths of the tests' scenarios);
 * ``curved``: an X-band straight pass that bows ``deviation`` metres sideways and vertically.
@@ -110,7 +110,7 @@ def wide_angle(arc_deg: float = 4.0, climb: float = 0.0, plane: str = "ground", 
     Parameters
     ----------
     arc_deg : float
-        Arc, degrees, under 180 (469 pulses for 4; the same angular step for others).
+        Arc, degrees, up to 360 (a full circle; 469 pulses for 4, the same angular step for others).
     climb : float
         Height gained over the pass, m (0: level).
     plane : {"ground", "slant"}
@@ -134,8 +134,8 @@ def wide_angle(arc_deg: float = 4.0, climb: float = 0.0, plane: str = "ground", 
         Pixel spacing 0.2 m in range; in azimuth 0.2 m where the arc resolves it (4 degrees:
         0.224 m), else 0.8 x the azimuth resolution.
     """
-    if arc_deg <= 0 or arc_deg >= 180:
-        raise ScenarioError("arc_deg", arc_deg, "must be in (0, 180) degrees")
+    if arc_deg <= 0 or arc_deg > 360:
+        raise ScenarioError("arc_deg", arc_deg, "must be in (0, 360] degrees")
     P = pulses or int(round(469 * arc_deg / 4.0))
     lam = SPEED_OF_LIGHT / (f0 + df * (n_freq // 2))
     arc = np.deg2rad(arc_deg)
@@ -150,7 +150,7 @@ def wide_angle(arc_deg: float = 4.0, climb: float = 0.0, plane: str = "ground", 
         m = int(math.ceil(2.0 * B * extent_r / SPEED_OF_LIGHT))
         if m > n_freq:
             n_freq, df = m, B / m
-    phi = np.deg2rad(np.linspace(0.0, arc_deg, P))
+    phi = np.deg2rad(np.linspace(0.0, arc_deg, P, endpoint=arc_deg < 360))  # a full circle: no pulse twice
     z = height + climb * np.linspace(0.0, 1.0, P)
     pos = np.stack([radius * np.cos(phi), radius * np.sin(phi), z], axis=1)
     f = f0 + df * np.arange(n_freq)

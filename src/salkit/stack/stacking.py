@@ -2,6 +2,8 @@
 coherent (phase-aligned), and the memory a stack needs."""
 from __future__ import annotations
 
+from contextlib import nullcontext
+
 import lazy_loader as _lazy
 import numpy as np
 
@@ -81,7 +83,11 @@ def _subimage_chunk_task(base_dict: dict, indices: list, squints: list, noise: b
     Chunks amortise the per-task costs (scheduling, parsing the scenario) that otherwise take twice
     the compute of a sub-image."""
     task_numba_threads()
-    base = parse_scenario(base_dict)
+    return _subimage_chunk(parse_scenario(base_dict), indices, squints, noise, complex_)
+
+
+def _subimage_chunk(base: Scenario, indices: list, squints: list, noise: bool, complex_: bool = False):
+    """A chunk of sub-images, in this process: (indices, intensities or complex64 images)."""
     imgs = np.stack([subimage(base, q, i, noise) for i, q in zip(indices, squints)])
     return list(indices), (imgs.astype(np.complex64) if complex_ else (np.abs(imgs) ** 2).astype(np.float32))
 
@@ -112,7 +118,8 @@ def stack_memory_estimate(base: Scenario, count: int, workers: int) -> tuple[flo
 def run_stack(base: Scenario, squints, store, scheduler: str | None = None,
               workers: int = 2, noise: bool = True, progress=None, stop_after: int | None = None,
               chunk: int | None = None, keep_complex: bool = False):
-    """Stack ``count`` sub-images as Dask tasks, checkpointed in a Zarr store.
+    """Stack ``count`` sub-images as Dask tasks (or, with ``workers=0``, in this process),
+    checkpointed in a Zarr store.
 
     Parameters
     ----------
@@ -125,6 +132,8 @@ def run_stack(base: Scenario, squints, store, scheduler: str | None = None,
         recomputes nothing already stored.
     scheduler : str, optional
         Address of an existing Dask scheduler; default: a local cluster of ``workers`` processes.
+    workers : int
+        Worker processes of the local cluster; 0: the sub-images in this process, no cluster.
     progress : callable, optional
         ``progress(done, total)``.
     stop_after : int, optional
@@ -140,7 +149,11 @@ def run_stack(base: Scenario, squints, store, scheduler: str | None = None,
     (stack, computed)
         The mean intensity over all stored sub-images and how many this call computed.
     """
-    with dask_client(scheduler, workers) as client:  # connect first: an unreachable scheduler writes nothing
+    here = workers == 0 and scheduler is None
+    if workers < 0 or (workers == 0 and not here):
+        raise ValueError(f"workers = {workers}: a cluster's worker count is at least 1, or 0 (in this process) "
+                         "without a scheduler")
+    with (nullcontext() if here else dask_client(scheduler, workers)) as client:  # an unreachable scheduler writes nothing
         squints = [float(q) for q in squints]
         count = len(squints)
         g = base.processing.grid
@@ -162,10 +175,14 @@ def run_stack(base: Scenario, squints, store, scheduler: str | None = None,
         bd = base.model_dump(mode="json")
         size = int(chunk or max(1, min(64, len(todo) // (4 * max(workers, 1)))))
         chunks = [todo[a:a + size] for a in range(0, len(todo), size)]
-        futures = [client.submit(_subimage_chunk_task, bd, ch, [squints[i] for i in ch], noise, keep_complex,
-                                 pure=False) for ch in chunks]
-        for fut in _dask_distributed.as_completed(futures):
-            idx, imgs = fut.result()
+        if here:  # one sub-image a step: the progress bar moves, and numba's threads are this process's
+            futures = []
+            results = (_subimage_chunk(base, [i], [squints[i]], noise, keep_complex) for i in todo)
+        else:
+            futures = [client.submit(_subimage_chunk_task, bd, ch, [squints[i] for i in ch], noise, keep_complex,
+                                     pure=False) for ch in chunks]
+            results = (fut.result() for fut in _dask_distributed.as_completed(futures))
+        for idx, imgs in results:
             for i, im in zip(idx, imgs):
                 if keep_complex:
                     root["image"][i] = im
