@@ -609,13 +609,17 @@ def aperture_parts(positions: np.ndarray, grid: ImageGrid, span_deg: float = PAR
     if len(parts) == 1:  # one part, however short, is one tree
         return parts
     out = []
-    for kind, a, b in parts:  # short parts of a split aperture backprojected, joined with their direct neighbours
-        kind = "direct" if b - a < min_pulses else kind
-        if out and kind == "direct" and out[-1][0] == "direct":
-            out[-1] = ("direct", out[-1][1], b)
-        else:
-            out.append((kind, a, b))
+    for kind, a, b in parts:  # short parts of a split aperture backprojected
+        _add_part(out, "direct" if b - a < min_pulses else kind, a, b)
     return out
+
+
+def _add_part(parts: list, kind: str, a: int, b: int) -> None:
+    """Append the part (kind, a, b), joined with the last one where both are ``"direct"``."""
+    if parts and kind == "direct" and parts[-1][0] == "direct":
+        parts[-1] = ("direct", parts[-1][1], b)
+    else:
+        parts.append((kind, a, b))
 
 
 def plan_parts(positions: np.ndarray, freq: np.ndarray, grid: ImageGrid, span_deg: float = PART_SPAN_DEG,
@@ -657,10 +661,7 @@ def plan_parts(positions: np.ndarray, freq: np.ndarray, grid: ImageGrid, span_de
                     todo += [(kind, m, b), (kind, a, m)]
                     continue
                 kind = "direct" if len(first) > 1 else kind  # one short collection stays one tree
-        if out and kind == "direct" and out[-1][0] == "direct":
-            out[-1] = ("direct", out[-1][1], b)
-        else:
-            out.append((kind, a, b))
+        _add_part(out, kind, a, b)
     return out
 
 
