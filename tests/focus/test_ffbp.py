@@ -201,8 +201,12 @@ def test_one_tree_refuses_an_aperture_past_the_scene_which_ffbp_forms_in_parts()
             ffbp_layout(pos, tb.frequency, ig)
         with pytest.raises(ScenarioError, match=r"pulses 0 to 15 lie"):
             ffbp(*args, split=False)
-        img, info = ffbp(*args)
+        seen = []
+        img, info = ffbp(*args, progress=lambda done, total: seen.append((done, total)))
         assert img.shape == (32, 32) and np.isfinite(img).all()
+        # progress in levels over every part (more than the parts: each tree has two or more), rising to one total
+        assert len({t for _, t in seen}) == 1 and seen[-1][0] == seen[-1][1] > info["ffbp_parts"]
+        assert all(d1 >= d0 for (d0, _), (d1, _) in zip(seen[:-1], seen[1:]))
         assert len(aperture_parts(pos, ig)) == 7  # 200 degrees in parts of 30 at most
         parts = plan_parts(pos, tb.frequency, ig)
         assert info["ffbp_parts"] == len(parts)

@@ -814,7 +814,7 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     range_taps : int
         Taps of the merges' range interpolation (even).
     progress : callable, optional
-        ``progress(done, total)`` in levels (in parts, for an aperture formed in parts).
+        ``progress(done, total)`` in levels (of every part, for an aperture formed in parts).
     split : bool
         Form a wide aperture in parts (False: as one tree, or refused where it reaches past the scene).
 
@@ -977,7 +977,11 @@ def _ffbp_in_parts(parts, ph, freq, positions, ref_range, grid, azimuth_window, 
                  "use --algorithm bp, a smaller grid, fewer pulses or a narrower aperture")
     img = np.zeros((nx, ny), np.complex64)
     info, direct, widest = {}, 0, 1.0
+    # progress in levels over all the parts (a directly backprojected part counts as one)
+    steps = [1 if lay_k is None else len(lay_k.levels) + 1 for _, lay_k in needs]
+    total, before = sum(steps), np.concatenate([[0], np.cumsum(steps)[:-1]]).astype(int)
     for k, (kind, a, b) in enumerate(parts):
+        step = (lambda done, _total, k=k: progress(int(before[k]) + done, total)) if progress else None
         if kind == "direct":
             row_origin = grid.plane.points(grid.azimuth, np.zeros_like(grid.azimuth))
             W = np.ascontiguousarray(np.broadcast_to(wa[None, a:b], (nx, b - a)))
@@ -991,11 +995,11 @@ def _ffbp_in_parts(parts, ph, freq, positions, ref_range, grid, azimuth_window, 
             q = QUARTERS.index(kind)
             part, info = ffbp(ph[a:b], freq, positions[a:b], ref_range[a:b], quarter_turn(grid, q),
                               azimuth_window[a:b], range_window, leaf, factor, oversample_angle, oversample_range,
-                              range_taps, None, split=False)
+                              range_taps, step, split=False)
             img += from_quarter_turn(part, q)
             widest = max(widest, info["ffbp_range_widening"])
-        if progress:
-            progress(k + 1, len(parts))
+        if progress and kind == "direct":
+            progress(int(before[k]) + 1, total)
     info = {**info, "ffbp_parts": len(parts), "ffbp_direct_pulses": direct, "ffbp_range_widening": widest}
     return img, info
 
