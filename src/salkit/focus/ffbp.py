@@ -457,9 +457,7 @@ def _check_in_front(leaves, grid: ImageGrid) -> None:
     cannot see (an aperture of more than 180 degrees around the scene, a track over it). The
     leaves suffice: every parent's centre is a weighted mean of theirs, and the distance is linear."""
     spans, centres = leaves[0], leaves[1]
-    rg = grid.range
-    near = float(rg[0]) - (0.5 * float(rg[1] - rg[0]) if rg.size > 1 else 0.0)
-    lead = (grid.plane.origin - centres) @ grid.plane.range + near
+    lead = _lead(centres, grid)
     k = int(np.argmin(lead))
     if lead[k] <= 0.0:
         a, b = spans[k]
@@ -468,7 +466,13 @@ def _check_in_front(leaves, grid: ImageGrid) -> None:
                             f"range axis, so every pulse must lie before the scene's near edge; pulses {a} to {b - 1} "
                             f"lie {-float(lead[k]):.4g} m past it (an aperture of more than 180 degrees around the "
                             "scene, or a track over it): one FFBP tree cannot form it; ffbp forms such an aperture in "
-                            "parts (aperture_parts), or use bp (any trajectory)")
+                            "parts (plan_parts), or use bp (any trajectory)")
+
+
+def _knobs(accuracy: str) -> dict:
+    """The polar grids' oversampling at an accuracy level (the module defaults, or :data:`ACCURATE`)."""
+    return {"oversample_angle": OVERSAMPLE_ANGLE, "oversample_range": OVERSAMPLE_RANGE,
+            **(ACCURATE if accuracy == "high" else {})}
 
 
 def _lead(positions: np.ndarray, grid: ImageGrid) -> np.ndarray:
@@ -716,9 +720,7 @@ def ffbp_layout(positions: np.ndarray, freq: np.ndarray, grid: ImageGrid, accura
         For an undeclared accuracy.
     """
     check_choice("processing.accuracy", accuracy, ACCURACY)
-    knobs = {"oversample_angle": OVERSAMPLE_ANGLE, "oversample_range": OVERSAMPLE_RANGE}
-    if accuracy == "high":
-        knobs.update(ACCURATE)
+    knobs = _knobs(accuracy)
     positions = np.asarray(positions, np.float64)
     grown = _grown(grid)
     if grown is not None:  # a narrow grid is formed wider (ffbp)
@@ -755,9 +757,7 @@ def ffbp_footprint(positions: np.ndarray, freq: np.ndarray, grid: ImageGrid, acc
         lay = ffbp_layout(positions, freq, grid, accuracy)
         return lay.peak - lay.image_bytes
     # in parts: the largest part's peak (its own image beside the one the parts are added into)
-    knobs = {"oversample_angle": OVERSAMPLE_ANGLE, "oversample_range": OVERSAMPLE_RANGE}
-    if accuracy == "high":
-        knobs.update(ACCURATE)
+    knobs = _knobs(accuracy)
     needs = _part_needs(parts, positions, freq, g, np.ones(positions.shape[0], np.float32), LEAF_PULSES,
                         MERGE_FACTOR, **knobs)
     return max(n for n, _ in needs)

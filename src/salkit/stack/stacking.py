@@ -172,13 +172,13 @@ def run_stack(base: Scenario, squints, store, scheduler: str | None = None,
         done = np.asarray(root["done"][:])
         todo = [i for i in range(count) if not done[i]]
         computed = 0
-        bd = base.model_dump(mode="json")
-        size = int(chunk or max(1, min(64, len(todo) // (4 * max(workers, 1)))))
-        chunks = [todo[a:a + size] for a in range(0, len(todo), size)]
         if here:  # one sub-image a step: the progress bar moves, and numba's threads are this process's
             futures = []
             results = (_subimage_chunk(base, [i], [squints[i]], noise, keep_complex) for i in todo)
         else:
+            bd = base.model_dump(mode="json")
+            size = int(chunk or max(1, min(64, len(todo) // (4 * workers))))
+            chunks = [todo[a:a + size] for a in range(0, len(todo), size)]
             futures = [client.submit(_subimage_chunk_task, bd, ch, [squints[i] for i in ch], noise, keep_complex,
                                      pure=False) for ch in chunks]
             results = (fut.result() for fut in _dask_distributed.as_completed(futures))
