@@ -74,7 +74,10 @@ def test_an_unknown_or_undeclared_property_is_an_error():
     for bad in ({"standard": 6}, {"standard": 1, "high": 8}, {"standard": 6, "high": 65}, {"standard": 6.0, "high": 8}):
         with pytest.raises(ValueError, match="upsample .* must map each of .* to an int in 2..64"):
             register_former("t6", **_declaration(upsample=bad))(lambda *a, **k: None)
-    assert not {"t1", "t2", "t3", "t4", "t5", "t6"} & set(FORMERS.names())
+    with pytest.raises(ValueError, match="support 'disc' must be one of"):
+        register_former("t7", **_declaration(support="disc"))(lambda *a, **k: None)
+    assert not {"t1", "t2", "t3", "t4", "t5", "t6", "t7"} & set(FORMERS.names())
+    assert FORMERS["pfa"].support == "rectangle" and FORMERS["bp"].support == FORMERS["ffbp"].support == "collection"
 
 
 def test_each_former_declares_its_upsampling_and_the_pipeline_reads_it():

@@ -82,7 +82,11 @@ def test_windows_broaden_as_theory(win, base, alg):
     sc = parse_scenario(merge(base, processing__algorithm=alg, processing__window=win, processing__grid=grid))
     m = measure(focus(simulate(sc), sc.processing), reflectivity_phase=sc.scene.points[0].phase)
     w = window_ipr(win)
-    assert m["irw_range_theory_m"] == pytest.approx(w["irw_factor"] * m["resolution_range_theory_m"])
+    if alg == "pfa" or base is STRIP:  # a rectangle of support: the window's figures times the resolution
+        assert m["irw_range_theory_m"] == pytest.approx(w["irw_factor"] * m["resolution_range_theory_m"])
+    else:  # the collection's own support (support_ipr): a narrow aperture's is nearly that rectangle
+        assert m["irw_range_theory_m"] == pytest.approx(w["irw_factor"] * m["resolution_range_theory_m"], rel=5e-3)
+        assert m["pslr_range_theory_db"] == pytest.approx(w["pslr_db"], abs=0.2)
     for ax in ("range", "azimuth"):
         assert m[f"irw_{ax}_m"] == pytest.approx(m[f"irw_{ax}_theory_m"], rel=tol.IRW_RATIO)
         assert abs(m[f"pslr_{ax}_db"] - w["pslr_db"]) <= 1.5
@@ -175,3 +179,33 @@ def test_a_runs_plan_weighs_ffbp_on_the_collection_it_will_simulate():
     parts = plan_parts(geo.positions, geo.freq, geo.grid)
     assert "direct" in {k for k, _, _ in parts} and parts[-1][2] == geo.positions.shape[0]
     assert not run_memory_plan(beyond).tiled
+
+
+@pytest.mark.parametrize("arc,window", [(120.0, "none"), (360.0, "none"), (60.0, "taylor")])
+def test_a_point_on_a_wide_arc_is_judged_against_its_own_support(arc, window):
+    """Past a few degrees the support is an annular sector (a full circle's a disc): the range
+    response is narrower than c/(2B) and its sidelobes are not the window's. Every verdict on the
+    run's card agrees with that theory (before 0.27 a 120-degree arc read range PSLR -14.2 against
+    the sinc's -13.26, 'outside tolerance', and a full circle's default grid was 7 m wide a pixel)."""
+    from salkit.report.judge import comparison_rows
+    from salkit.simulate.testbeds import wide_angle
+    tb = wide_angle(arc, 0.0, "ground", pulses=1024)
+    img = focus(tb.dataset(np.zeros((1, 3)), np.ones(1)), plane="ground", window_name=window)
+    assert img.attrs["ipr_theory"] == "support"
+    m = measure(img)
+    rows = [r for r in comparison_rows(m) if r["name"].startswith(("IRW", "PSLR", "ISLR"))]
+    assert len(rows) == 6 and all(r["ok"] for r in rows), rows
+    for ax in ("range", "azimuth"):  # the theory is the support's, not the window's rectangle
+        assert abs(m[f"pslr_{ax}_db"] - m[f"pslr_{ax}_theory_db"]) <= tol.PSLR_DB
+    if arc == 360.0:  # a disc: the same response on both axes, a J0 (first sidelobe -7.9 dB)
+        assert m["irw_range_theory_m"] == pytest.approx(m["irw_azimuth_theory_m"], rel=0.01)
+        assert m["pslr_range_theory_db"] == pytest.approx(-7.9, abs=0.2)
+    if window == "none":  # the window's rectangle would have judged these against -13.26 dB
+        assert abs(m["pslr_range_theory_db"] - window_ipr("none")["pslr_db"]) > 3.0
+    # the report's cuts are drawn against the same theory: they lie on the measured ones
+    from salkit.metrics.pointtarget import cut_curves
+    curves = cut_curves(measure(img, details=True), img.attrs, positions=img["collection_position"].values)
+    for ax in ("range", "azimuth"):
+        x, meas, th = curves[ax]
+        near = (th > -25.0) & (np.abs(x) < 4 * img.attrs[f"resolution_{ax}"])
+        assert near.sum() > 50 and np.max(np.abs(meas[near] - th[near])) < 0.5

@@ -57,3 +57,33 @@ def test_beam_gain_matches_the_simulator_kernel():
                     for v in s])
     # the kernel takes sin from cos (sqrt(1 - cos^2)), good to ~1e-7 near boresight
     np.testing.assert_allclose(beam_gain(table, dsin, s), ref, rtol=1e-6, atol=1e-9)
+
+
+def _circle(arc_deg: float, pulses: int = 720, elev_deg: float = 45.0) -> np.ndarray:
+    phi = np.radians(arc_deg) * (np.arange(pulses) / pulses - 0.5)
+    e = math.radians(elev_deg)
+    return 7000.0 * np.stack([np.cos(e) * np.cos(phi), np.cos(e) * np.sin(phi), np.full_like(phi, np.sin(e))], axis=1)
+
+
+def test_processed_angle_is_the_angle_swept():
+    """A circle's pulses sweep cos(elev) x its arc on the unit sphere; the end-to-end angle of a full
+    circle would be one step (before 0.27: a 7 m azimuth resolution for a 2 cm one)."""
+    from salkit.geometry.collection import processed_angle
+    for arc in (4.0, 120.0, 360.0):
+        pos = _circle(arc)
+        ang = processed_angle(pos, 0.03)
+        assert ang == pytest.approx(math.radians(arc) * math.cos(math.radians(45.0)), rel=1e-3)
+
+
+def test_support_resolution_of_a_full_circle_is_the_same_on_both_axes():
+    """A full circle's support is a disc of diameter 2 x 4 pi f cos(elev)/c on every axis: the
+    resolution is lambda / (4 cos(elev)) in range as in azimuth, not c/(2B)."""
+    from salkit.geometry.collection import support_resolution
+    pos = _circle(360.0)
+    a, r = np.array([0.0, 1.0, 0.0]), np.array([1.0, 0.0, 0.0])
+    rho_r, rho_a = support_resolution(pos, 5e8, 0.03, np.array([7000.0, 0.0, 7000.0]), a, r)
+    lam4 = 0.03 / (4 * math.cos(math.radians(45.0)))
+    assert rho_a == pytest.approx(lam4, rel=2e-3)
+    assert rho_r == pytest.approx(lam4 / (1 + 5e8 / (2 * C / 0.03)), rel=2e-3)  # the band adds to the disc's range
+    narrow = support_resolution(_circle(4.0), 5e8, 0.03, np.array([7000.0, 0.0, 7000.0]), a, r)
+    assert narrow[0] == pytest.approx(C / (2 * 5e8 * math.cos(math.radians(45.0))), rel=0.02)

@@ -147,6 +147,10 @@ MODES = ("spotlight", "stripmap")
 TRACKS = ("any", "straight")
 #: Where the deterministic phase of an image is referred (:func:`salkit.metrics.measure.image_phase_model`).
 PHASE_REFERENCES = ("aperture_centre", "track")
+#: What K-space support a spotlight image holds: the collection's own (backprojection, the exact
+#: filter: its point-target theory is :func:`salkit.metrics.pointtarget.support_ipr`), or a rectangle
+#: resampled inside it (polar format: the window's figures times the resolutions).
+SUPPORTS = ("collection", "rectangle")
 
 
 #: Range-profile upsampling of a former that declares none (``FormerSpec.upsample``), and of a
@@ -214,6 +218,9 @@ class FormerSpec:
         collection's geometry where the sizes alone do not tell it (FFBP's polar grids and range
         profiles grow with the aperture's angle); the tiling planner weighs tiles and pulse blocks
         by it when the geometry is known. None: ``memory`` is exact enough.
+    support : {"collection", "rectangle"}
+        The K-space support its spotlight image holds (:data:`SUPPORTS`), which fixes the theory
+        its point targets are judged against.
     """
 
     name: str
@@ -229,6 +236,7 @@ class FormerSpec:
     accuracy: Mapping[str, Accuracy] = field(default_factory=dict)
     upsample: Mapping[str, int] = field(default_factory=lambda: dict(DEFAULT_UPSAMPLE))
     footprint: Optional[Callable] = None
+    support: str = "collection"
 
     def __post_init__(self):
         what = f"image former {self.name!r}"
@@ -253,6 +261,8 @@ class FormerSpec:
             raise ValueError(f"{what}: pulse blocks (blocks) are formed tile by tile: declare tiles=True")
         if not callable(self.form) or not callable(self.memory):
             raise ValueError(f"{what}: form and memory must be callables")
+        if self.support not in SUPPORTS:
+            raise ValueError(f"{what}: support {self.support!r} must be one of {SUPPORTS}")
         if self.footprint is not None and not callable(self.footprint):
             raise ValueError(f"{what}: footprint must be a callable or None")
 

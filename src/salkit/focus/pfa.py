@@ -392,7 +392,7 @@ def pfa_memory(sizes: Sizes) -> float:
 @register_former(
     "pfa", summary="polar format: plane-wave model, K-space resampled onto an inscribed rectangle, FFT",
     modes=("spotlight",), tracks="any", phase_reference="aperture_centre", tiles=False, tile_overlap=0, blocks=None,
-    memory=pfa_memory,
+    memory=pfa_memory, support="rectangle",
     accuracy={"standard": Accuracy("8-tap Kaiser sinc resampling", None,
                                    "-27 dB at the seed geometries; warns where the wavefront curvature breaks it"),
               "high": Accuracy("as standard", None, "as standard")})

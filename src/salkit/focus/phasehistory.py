@@ -8,7 +8,7 @@ import xarray as xr
 
 from ..constants import SPEED_OF_LIGHT
 from ..errors import DataFileError
-from ..geometry.collection import plane_from, plane_resolution, processed_angle
+from ..geometry.collection import plane_from, plane_resolution, processed_angle, support_resolution
 from ..io.ingest import normalise_phase_history
 from ..params.models import Grid
 from .rangecomp import range_compress
@@ -105,9 +105,10 @@ def phase_history(raw: xr.Dataset, chirp_correction: str = "none",
 
 
 def theory_resolution(ph: PhaseHistory, plane) -> dict:
-    """Unweighted resolutions that the data support in an image plane
-    (:func:`salkit.geometry.plane_resolution`, the same theory as
-    :func:`salkit.geometry.resolution_theory` for a scenario).
+    """Unweighted resolutions that the data support in an image plane: spotlight from the extent
+    of the K-space support (:func:`salkit.geometry.collection.support_resolution`), stripmap from the
+    beam (:func:`salkit.geometry.plane_resolution`); the same theory as
+    :func:`salkit.geometry.resolution_theory` for a scenario.
 
     Parameters
     ----------
@@ -122,6 +123,9 @@ def theory_resolution(ph: PhaseHistory, plane) -> dict:
     ang = processed_angle(ph.positions, ph.wavelength, ph.mode, ph.real_aperture)
     look = -ph.center_position / np.linalg.norm(ph.center_position)
     rho_r, rho_a, _ = plane_resolution(ph.bandwidth, ph.wavelength, ang, look, plane.range)
+    if not (ph.mode == "stripmap" and ph.real_aperture > 0):  # spotlight: every pulse sees every pixel
+        rho_r, rho_a = support_resolution(ph.positions, ph.bandwidth, ph.wavelength, ph.center_position,
+                                          plane.azimuth, plane.range)
     return {"range": rho_r, "azimuth": rho_a, "bandwidth": ph.bandwidth, "angle": ang}
 
 

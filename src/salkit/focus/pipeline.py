@@ -25,7 +25,7 @@ from ..geometry.geodesy import image_geolocation
 from ..io.datasets import make_image_dataset
 from ..io.reading import lazy_reads, open_dataset
 from ..io.writing import ImageFileWriter
-from ..metrics.pointtarget import window_ipr
+from ..metrics.pointtarget import support_ipr, window_ipr
 from ..params.models import Grid, Processing, Scenario
 from ..params.scenario import stored_scenario
 from ..registry import FORMERS
@@ -361,12 +361,24 @@ def _image_attrs(ph: PhaseHistory, raw: xr.Dataset, scenario, g: Grid, alg: str,
         "resolution_range": res["range"], "resolution_azimuth": res["azimuth"],
         "irw_range_theory": float(wi["irw_factor"]) * res["range"],
         "irw_azimuth_theory": float(wi["irw_factor"]) * res["azimuth"],
-        "pslr_theory": wi["pslr_db"], "islr_theory": wi["islr_db"],
+        "pslr_theory": wi["pslr_db"], "islr_theory": wi["islr_db"], "window_irw_factor": float(wi["irw_factor"]),
+        "ipr_theory": "window",
         "grid_dx": g.dx, "grid_dy": g.dy,
         # stripmap pixels are focused about their own broadside: image phase follows the track
         "phase_reference": "track" if ph.mode == "stripmap" else former_spec(alg).phase_reference,
         "aperture_center": ph.center_position,
     }
+    if not (ph.mode == "stripmap" and ph.real_aperture > 0) and former_spec(alg).support == "collection":
+        # a spotlight image holding the collection's K-space support: its point's response is that
+        # support's transform (an annular sector past a few degrees, not the window's rectangle)
+        plane = ImageGrid.of(ph, g).plane
+        t = support_ipr(ph.positions, ph.freq, plane.azimuth, plane.range, res["azimuth"], res["range"], win.name,
+                        win.nbar, win.sll)
+        attrs["ipr_theory"] = "support"
+        for ax in ("range", "azimuth"):
+            if np.isfinite(t[f"irw_{ax}"]):
+                attrs[f"irw_{ax}_theory"] = t[f"irw_{ax}"]
+                attrs[f"pslr_{ax}_theory"], attrs[f"islr_{ax}_theory"] = t[f"pslr_{ax}"], t[f"islr_{ax}"]
     for k in ("frequency_fit_residual_steps", "frequency_fit_residual", "phase_sign_converted"):
         if k in ph.attrs:
             attrs[k] = ph.attrs[k]

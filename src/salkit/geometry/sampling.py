@@ -14,7 +14,7 @@ from ..params.models import Scenario
 from ..io.meshes import mesh_bounds
 from ..registry import FORMERS
 from .collection import (Collection, _unit, build_collection, rotation, first_null_sin, footprint, image_plane, plane_resolution,
-                         processed_angle, scene_point_positions)
+                         processed_angle, scene_point_positions, support_resolution)
 
 
 def scene_probe_points(scenario: Scenario) -> np.ndarray:
@@ -145,8 +145,10 @@ def effective_bandwidth(scenario: Scenario, col: Collection | None = None) -> fl
 def resolution_theory(scenario: Scenario, collection: Collection | None = None) -> dict:
     """Theoretical resolutions (m) of a scenario in its image plane (:func:`plane_resolution`).
 
-    Range: c/(2 B_eff) with B_eff = chirp_rate * gate, projected onto the image plane.
-    Azimuth: wavelength / (2 * dtheta_eff) (:func:`processed_angle`).
+    Spotlight: from the extent of the K-space support along each axis
+    (:func:`salkit.geometry.collection.support_resolution`); for a narrow aperture c/(2 B_eff) with
+    B_eff = chirp_rate * gate, projected onto the image plane, and wavelength / (2 * dtheta_eff).
+    Stripmap: the same two with dtheta_eff the beam's (:func:`processed_angle`).
 
     Parameters
     ----------
@@ -167,6 +169,9 @@ def resolution_theory(scenario: Scenario, collection: Collection | None = None) 
     ang_eff = processed_angle(col.positions, w.wavelength, p.mode, p.real_aperture)
     rho_r_plane, rho_a, rho_r = plane_resolution(B, w.wavelength, ang_eff, _unit(-col.center_position),
                                                  plane.range)
+    if not (p.mode == "stripmap" and p.real_aperture > 0):  # spotlight: from the K-space support's extent
+        rho_r_plane, rho_a = support_resolution(col.positions, B, w.wavelength, col.center_position, plane.azimuth,
+                                                plane.range)
     aperture = ang_eff * float(np.linalg.norm(col.center_position))
     return {"range": rho_r_plane, "azimuth": rho_a, "slant_range": rho_r,
             "bandwidth_eff": B, "aperture_length": aperture, "angle": ang_eff}

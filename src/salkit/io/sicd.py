@@ -29,6 +29,15 @@ NS = "urn:SICD:1.3.0"
 WINDOWS = {"none": "UNIFORM", "hamming": "HAMMING", "taylor": "TAYLOR"}
 
 
+def _rect_irw(attrs, axis: str, bandwidth: float) -> float:
+    """SICD's ImpRespWid along an axis: the weighted rectangle's of ImpRespBW (SICD's grid model,
+    which sarkit checks), the window's IRW factor over the bandwidth; the image's own IRW theory
+    where it has no factor (before 0.27), which is that rectangle's too."""
+    if "window_irw_factor" in attrs:
+        return float(attrs["window_irw_factor"]) / bandwidth
+    return float(attrs.get(f"irw_{axis}_theory", 0.886 / bandwidth))
+
+
 def _poly1(tag, coefs):
     n = len(coefs) - 1
     return (f'<{tag} order1="{n}">' + "".join(f'<Coef exponent1="{i}">{_f(c)}</Coef>' for i, c in enumerate(coefs))
@@ -159,8 +168,8 @@ def sicd_xml(image: xr.Dataset, origin=None, core_name: str = "salkit"):
 <HAE>{_f(scp_llh[2])}</HAE></LLH></SCP><ImageCorners>{icp}</ImageCorners></GeoData>
 <Grid><ImagePlane>{plane}</ImagePlane><Type>PLANE</Type>
 <TimeCOAPoly order1="0" order2="0"><Coef exponent1="0" exponent2="0">{_f(t_scp)}</Coef></TimeCOAPoly>
-{dirparam('Row', u_rg, dy, bw_r, 2 * fc / SPEED_OF_LIGHT * cos_r, float(a.get('irw_range_theory', 0.886 / bw_r)))}
-{dirparam('Col', u_az, dx, bw_a, 0.0, float(a.get('irw_azimuth_theory', 0.886 / bw_a)))}</Grid>
+{dirparam('Row', u_rg, dy, bw_r, 2 * fc / SPEED_OF_LIGHT * cos_r, _rect_irw(a, 'range', bw_r))}
+{dirparam('Col', u_az, dx, bw_a, 0.0, _rect_irw(a, 'azimuth', bw_a))}</Grid>
 <Timeline><CollectStart>2000-01-01T00:00:00.000000Z</CollectStart><CollectDuration>{_f(t[-1])}</CollectDuration></Timeline>
 <Position>{_xyzpoly('ARPPoly', coefs)}</Position>
 <RadarCollection><TxFrequency><Min>{_f(fmin)}</Min><Max>{_f(fmax)}</Max></TxFrequency><TxPolarization>UNKNOWN</TxPolarization>

@@ -117,7 +117,10 @@ def measure(image: xr.Dataset, truth: np.ndarray | None = None, reflectivity_pha
     for ax in ("range", "azimuth"):
         if f"irw_{ax}_theory" in at:
             out[f"irw_{ax}_theory_m"] = float(at[f"irw_{ax}_theory"])
-        if "pslr_theory" in at:
+        if f"pslr_{ax}_theory" in at:  # this axis' own (the collection's support, 0.27 on)
+            out[f"pslr_{ax}_theory_db"] = float(at[f"pslr_{ax}_theory"])
+            out[f"islr_{ax}_theory_db"] = float(at[f"islr_{ax}_theory"])
+        elif "pslr_theory" in at:  # the window's, the same on both axes
             out[f"pslr_{ax}_theory_db"] = float(at["pslr_theory"])
             out[f"islr_{ax}_theory_db"] = float(at["islr_theory"])
         out[f"resolution_{ax}_theory_m"] = float(at.get(f"resolution_{ax}", float("nan")))

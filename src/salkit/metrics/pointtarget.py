@@ -11,6 +11,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from ..constants import SPEED_OF_LIGHT
 from ..signals.windows import window
 from ..tolerances import GRID_SPACING_OF_RESOLUTION
 
@@ -82,11 +83,32 @@ def ipr_1d(h: np.ndarray, dx: float, resolution: float) -> dict:
             "null_left": nl, "null_right": nr}
 
 
+#: Powers (of the profile's peak) below which a spectral bin counts as empty in :func:`_carrier`,
+#: tried in turn (a truncated chip's leakage fills a narrow gap to -20 dB).
+CARRIER_GAP_LEVELS = (1e-3, 1e-2, 1e-1)
+
+
 def _carrier(chip: np.ndarray, axis: int) -> float:
-    """Spectral centroid (cycles/sample) of ``chip`` along ``axis`` by circular mean of power."""
+    """Centre (cycles/sample) of the band ``chip`` occupies along ``axis``: opposite the middle of
+    the widest run of empty bins (under one of :data:`CARRIER_GAP_LEVELS` of the peak), so that zero
+    padding falls in that gap; with no empty bin (noise over the whole band), the circular mean of
+    the power. (The circular mean alone fails for a band wider than half the sampling rate whose
+    power sits at its edges, as a wide aperture's annular support projects: the mean's angle then
+    points into the gap, and the padding would split the band.)"""
     spec = np.abs(np.fft.fft(chip, axis=axis)) ** 2
     prof = spec.sum(axis=1 - axis)
     n = prof.size
+    for level in CARRIER_GAP_LEVELS:  # the deepest level that leaves a gap (leakage fills a narrow one)
+        empty = prof < level * prof.max()
+        if empty.sum() >= 2 and not empty.all():
+            start = int(np.argmin(empty))  # an occupied bin: runs of empty bins after it do not wrap
+            e = np.roll(empty, -start)
+            edges = np.diff(np.concatenate(([0], e.astype(np.int8), [0])))
+            lo, hi = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+            k = int(np.argmax(hi - lo))
+            if hi[k] - lo[k] >= 2:
+                middle = (start + 0.5 * (lo[k] + hi[k] - 1)) / n  # of the widest gap, cycles/sample
+                return float((middle + 0.5 + 0.5) % 1.0 - 0.5)
     z = np.sum(prof * np.exp(2j * np.pi * np.arange(n) / n))
     return float(np.angle(z) / (2 * np.pi))
 
@@ -283,6 +305,115 @@ def window_ipr(name: str, nbar: int = 4, sll: float = 35.0, n: int = 512, up: in
     return {"irw_factor": m["irw"], "pslr_db": m["pslr_db"], "islr_db": m["islr_db"]}
 
 
+#: Bins of the K-space support's projection onto an axis (:func:`support_ipr`): the response it
+#: gives repeats every this many cells of the support's extent, far outside the +-15 analysed.
+SUPPORT_BINS = 2048
+#: Samples a resolution cell of the theoretical cuts (:func:`support_ipr`).
+SUPPORT_SAMPLES_PER_CELL = 64
+#: Pulses and frequencies each that :func:`support_ipr` reads at most (every k-th): the response near
+#: its peak is then that of the whole collection to 0.01 dB.
+SUPPORT_MAX_SAMPLES = 1024
+
+
+def _support_cut(s: np.ndarray, freq: np.ndarray, wp: np.ndarray, wf: np.ndarray, resolution: float,
+                 half_cells: float) -> tuple[np.ndarray, float]:
+    """|response|, and its sample spacing (m), along an image axis of a unit point at the scene
+    centre, from the projection of the weighted K-space support onto that axis (projection-slice):
+    the support's samples 4 pi f s_p / c, deposited linearly onto :data:`SUPPORT_BINS` bins (the
+    deposit's sinc^2 taper divided out), Fourier transformed onto offsets +-``half_cells``
+    resolution cells."""
+    lo = min(freq[0] * s.min(), freq[-1] * s.min())
+    hi = max(freq[0] * s.max(), freq[-1] * s.max())
+    nb = SUPPORT_BINS
+    if not hi > lo:
+        return np.zeros(1), float("nan")
+    step = (hi - lo) / (nb - 1)  # Hz of f s a bin
+    H = np.zeros(nb + 1)
+    rows = max(1, (1 << 20) // freq.size)
+    for p0 in range(0, s.size, rows):
+        pos = (s[p0:p0 + rows, None] * freq[None, :] - lo) / step
+        i = np.clip(np.floor(pos).astype(np.int64), 0, nb - 1)
+        frac = pos - i
+        w = wp[p0:p0 + rows, None] * wf[None, :]
+        H += np.bincount(i.ravel(), (w * (1.0 - frac)).ravel(), nb + 1)
+        H += np.bincount((i + 1).ravel(), (w * frac).ravel(), nb + 1)
+    # offset x (m) turns bin b by 4 pi (b step) x / c: an L-point transform samples x every c/(2 L step)
+    L = 1 << int(math.ceil(math.log2(max(nb + 1, SUPPORT_SAMPLES_PER_CELL * SPEED_OF_LIGHT / (2 * step * resolution)))))
+    dx = SPEED_OF_LIGHT / (2 * L * step)
+    h = np.fft.fftshift(np.fft.fft(H, L))
+    j = np.arange(L) - L // 2
+    h = np.abs(h) / np.sinc(j / L) ** 2
+    keep = np.abs(j) * dx <= half_cells * resolution
+    return h[keep], dx
+
+
+def _support_samples(positions: np.ndarray, freq: np.ndarray, window_name: str, nbar: int, sll: float):
+    """The pulses' unit directions, the frequencies and the two windows' weights that the support
+    theory reads: every k-th pulse and frequency, at most :data:`SUPPORT_MAX_SAMPLES` each."""
+    P, M = positions.shape[0], freq.size
+    pi = np.unique(np.round(np.linspace(0, P - 1, min(P, SUPPORT_MAX_SAMPLES))).astype(np.int64))
+    fi = np.unique(np.round(np.linspace(0, M - 1, min(M, SUPPORT_MAX_SAMPLES))).astype(np.int64))
+    u = positions[pi] / np.linalg.norm(positions[pi], axis=1)[:, None]
+    return (u, np.asarray(freq, np.float64)[fi], window(window_name, P, nbar, sll)[pi],
+            window(window_name, M, nbar, sll)[fi])
+
+
+def support_ipr(positions: np.ndarray, freq: np.ndarray, azimuth: np.ndarray, range_axis: np.ndarray,
+                resolution_azimuth: float, resolution_range: float, window_name: str = "none", nbar: int = 4,
+                sll: float = 35.0) -> dict:
+    """Theoretical IRW, PSLR and ISLR of a spotlight collection along each image axis, from its own
+    K-space support: each pulse p and frequency f give a wavenumber 4 pi f / c along the pulse's
+    direction u_p, weighted by the window over the pulses and over the frequencies, as the
+    backprojection formers apply them. The response of a point at the scene centre along an axis
+    e is the Fourier transform of the support projected onto e (projection-slice), measured by
+    :func:`ipr_1d` with the same sidelobe span as an image.
+
+    A narrow aperture's support is a rectangle and this gives the window's figures
+    (:func:`window_ipr`) times c/(2B) and lambda/(2 dtheta). A wide one's is an annular sector: its
+    range response is narrower than c/(2B) and its sidelobes differ (-16 dB at 60 degrees, no
+    window); a full circle's is a disc, with a J0-like response on both axes.
+
+    Parameters
+    ----------
+    positions : float64 (P, 3)
+        Antenna positions relative to the scene centre, m.
+    freq : float64 (M,)
+        Frequencies of the phase history, Hz, increasing.
+    azimuth, range_axis : float64 (3,)
+        Unit axes of the image plane.
+    resolution_azimuth, resolution_range : float
+        The resolutions (m) that set the +-10 cell sidelobe span, as the image is measured with.
+    window_name : {"none", "hamming", "taylor"}
+    nbar, sll : int, float
+        Taylor parameters.
+
+    Returns
+    -------
+    dict
+        ``irw_range``, ``irw_azimuth`` (m), ``pslr_range``, ``pslr_azimuth``, ``islr_range``,
+        ``islr_azimuth`` (dB); NaN on an axis the support does not extend along.
+
+    Examples
+    --------
+    >>> x = np.linspace(-10.0, 10.0, 201)  # a straight track 1 km away: the support is a rectangle
+    >>> pos = np.stack([x, np.zeros_like(x), np.full_like(x, 1000.0)], axis=1)
+    >>> f = 1e10 + np.arange(256) * (1e9 / 256)
+    >>> t = support_ipr(pos, f, np.array([1.0, 0, 0]), np.array([0, 0, -1.0]), 0.7463, 0.1499)
+    >>> round(t["irw_range"] / 0.1499, 3), round(t["pslr_range"], 2)  # the sinc's
+    (0.886, -13.26)
+    >>> round(t["pslr_azimuth"], 2)  # a 10 % band blurs the azimuth sidelobes: a sum of sincs
+    -13.33
+    """
+    u, f, wp, wf = _support_samples(positions, freq, window_name, nbar, sll)
+    out = {}
+    for ax, e, res in (("range", range_axis, resolution_range), ("azimuth", azimuth, resolution_azimuth)):
+        h, dx = _support_cut(u @ np.asarray(e, np.float64), f, wp, wf, res, 1.5 * SIDELOBE_SPAN)
+        m = ipr_1d(h, dx, res) if np.isfinite(dx) else {"irw": np.nan, "pslr_db": np.nan, "islr_db": np.nan}
+        out[f"irw_{ax}"], out[f"pslr_{ax}"], out[f"islr_{ax}"] = (float(m["irw"]), float(m["pslr_db"]),
+                                                                  float(m["islr_db"]))
+    return out
+
+
 def theory_ipr(window_name: str, x: np.ndarray, resolution: float, nbar: int = 4,
                sll: float = 35.0) -> np.ndarray:
     """Theoretical |IPR|^2 (peak 1) of a window at offsets ``x`` (m) for a resolution (m).
@@ -309,7 +440,42 @@ def theory_ipr(window_name: str, x: np.ndarray, resolution: float, nbar: int = 4
     return (h / h.max()) ** 2
 
 
-def cut_curves(details: dict, attrs: dict, span: float = 8.0) -> dict:
+def support_curve(positions: np.ndarray, freq: np.ndarray, axis: np.ndarray, x: np.ndarray, resolution: float,
+                  window_name: str = "none", nbar: int = 4, sll: float = 35.0) -> np.ndarray:
+    """Theoretical |IPR|^2 (peak 1) at offsets ``x`` (m) along an image axis, from the collection's
+    K-space support (:func:`support_ipr`'s response).
+
+    Parameters
+    ----------
+    positions : float64 (P, 3)
+        Antenna positions relative to the scene centre, m.
+    freq : float64 (M,)
+        Frequencies, Hz, increasing.
+    axis : float64 (3,)
+        Unit image axis.
+    x : ndarray
+        Offsets from the peak, m.
+    resolution : float
+        The axis' resolution, m (the response's sampling: 64 samples a cell).
+    window_name : {"none", "hamming", "taylor"}
+    nbar, sll : int, float
+        Taylor parameters.
+
+    Returns
+    -------
+    ndarray
+        Normalised intensity.
+    """
+    u, f, wp, wf = _support_samples(positions, freq, window_name, nbar, sll)
+    x = np.asarray(x, np.float64)
+    half = float(np.max(np.abs(x))) / resolution + 1.0 if x.size else 1.0
+    h, dx = _support_cut(u @ np.asarray(axis, np.float64), f, wp, wf, resolution, half)
+    p = h ** 2
+    xs = (np.arange(p.size) - p.size // 2) * dx
+    return np.interp(x, xs, p / p.max())
+
+
+def cut_curves(details: dict, attrs: dict, span: float = 8.0, positions: np.ndarray | None = None) -> dict:
     """The measured cuts through the brightest target and their theory, ready to draw.
 
     Parameters
@@ -317,15 +483,25 @@ def cut_curves(details: dict, attrs: dict, span: float = 8.0) -> dict:
     details : dict
         From :func:`salkit.metrics.measure` with ``details=True`` (``_cut_range``, ``_cut_dy``, ...).
     attrs : dict
-        Image attributes (``resolution_range``, ``resolution_azimuth``, ``window``).
+        Image attributes (``resolution_range``, ``resolution_azimuth``, ``window``; for an image
+        judged against its collection's support, ``ipr_theory``, ``azimuth_axis``, ``range_axis``,
+        ``frequency_min``, ``frequency_max``).
     span : float
         Half-width kept, resolution cells.
+    positions : float64 (P, 3), optional
+        The collection's antenna positions (the image's ``collection_position``): with them, an
+        image whose theory is its support (``ipr_theory = support``) is drawn against that support's
+        response (:func:`support_curve`), else against the window's.
 
     Returns
     -------
     dict
         ``{"range": (x m, measured dB, theory dB), "azimuth": (...)}``.
     """
+    support = (positions is not None and attrs.get("ipr_theory") == "support"
+               and all(k in attrs for k in ("azimuth_axis", "range_axis", "frequency_min", "frequency_max")))
+    if support:  # the band's end points and as many samples as the theory reads (the window's shape)
+        freq = np.linspace(float(attrs["frequency_min"]), float(attrs["frequency_max"]), SUPPORT_MAX_SAMPLES)
     out = {}
     for name, d0, key in (("range", details["_cut_dy"], "_cut_range"), ("azimuth", details["_cut_dx"], "_cut_azimuth")):
         y = np.asarray(details[key], np.float64) ** 2
@@ -334,6 +510,10 @@ def cut_curves(details: dict, attrs: dict, span: float = 8.0) -> dict:
         x = (np.arange(y.size) - i) * d0
         res = float(attrs.get(f"resolution_{name}", np.nan))
         keep = np.abs(x) <= span * res
-        th = theory_ipr(attrs.get("window", "none"), x[keep], res)
+        if support:
+            th = support_curve(np.asarray(positions, np.float64), freq, np.asarray(attrs[f"{name}_axis"], np.float64),
+                               x[keep], res, attrs.get("window", "none"))
+        else:
+            th = theory_ipr(attrs.get("window", "none"), x[keep], res)
         out[name] = (x[keep], 10 * np.log10(np.maximum(y[keep], 1e-8)), 10 * np.log10(np.maximum(th, 1e-8)))
     return out

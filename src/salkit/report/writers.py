@@ -43,7 +43,8 @@ def write_airborne(result: RunResult, out: Path, page: dict | None = None) -> No
              f"{alg} image, dB, azimuth and range in m, true target positions marked{every}")]
     plot.image_db(image, out / "image.png", title=f"{result.name}: {alg} image", truth=truth)
     if "_cut_range" in details:
-        plot.cuts(cut_curves(details, image.attrs), metrics, out / "cuts.png")
+        pos = image["collection_position"].values if "collection_position" in image else None
+        plot.cuts(cut_curves(details, image.attrs, positions=pos), metrics, out / "cuts.png")
         figs.append(("Cuts through the brightest target against theory", "cuts.png",
                      "Range and azimuth cuts through the brightest target, dB, against the theoretical response"))
     if fig.get("autofocus") is not None:
