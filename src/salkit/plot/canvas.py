@@ -23,10 +23,21 @@ def _subplots(*args, **kwargs):
     return plt.subplots(*args, **kwargs)
 
 
+SAVE_DPI = 110  # the figures' resolution, dots per inch
+
+
 def _save(fig, path: str | Path) -> Path:
+    """Save ``fig`` as a PNG (atomically) and close it. The constrained layout is computed once, at
+    the saving resolution, and frozen before saving: ``savefig`` with a layout engine draws the
+    figure twice and lays it out each time, and the layout (text extents of every tick label) was
+    half of a figure's 1.3 s, 40 % of ``make demo``'s time."""
     try:
         with atomic_path(path, suffix=".png") as tmp:
-            fig.savefig(tmp, dpi=110)
+            if fig.get_layout_engine() is not None:
+                fig.set_dpi(SAVE_DPI)
+                fig.draw_without_rendering()  # lays the figure out
+                fig.set_layout_engine(None)  # keeps those positions: savefig draws once
+            fig.savefig(tmp, dpi=SAVE_DPI)
     finally:
         plt.close(fig)
     return Path(path)
