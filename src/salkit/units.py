@@ -39,7 +39,8 @@ NAMED: dict[str, str] = {
     "center_position": "m", "scene_center": "m", "aperture_center": "m", "plane_origin": "m", "grid_dx": "m",
     "grid_dy": "m", "frequency_min": "Hz", "frequency_max": "Hz", "fringe_period_theory": "m",
     "irw_azimuth_theory": "m", "irw_range_theory": "m", "islr_theory": "dB", "pslr_theory": "dB",
-    "pslr_range_theory": "dB", "pslr_azimuth_theory": "dB", "window_irw_factor": "", "islr_range_theory": "dB", "islr_azimuth_theory": "dB",
+    "pslr_range_theory": "dB", "pslr_azimuth_theory": "dB", "window_irw_factor": "",
+    "support_azimuth_extent": "rad/m", "support_range_extent": "rad/m", "islr_range_theory": "dB", "islr_azimuth_theory": "dB",
     "illuminated_azimuth": "m", "illuminated_range": "m", "range_reference": "m",
     # image measures
     "entropy": "nats", "contrast": "",

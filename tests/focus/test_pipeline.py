@@ -53,8 +53,9 @@ def test_point_target_to_theory(case):
     assert m["pslr_range_theory_db"] == pytest.approx(-13.26, abs=0.01)
     if sc.processing.grid.plane == "ground":  # ground-range resolution c/2B / cos(grazing)
         graze = np.arctan2(sc.platform.altitude, sc.platform.standoff)
-        assert m["resolution_range_theory_m"] == pytest.approx(
-            m["irw_range_theory_m"] / 0.8859, rel=1e-3)
+        # the sinc's IRW over the support (pfa: over the rectangle it kept, a little inside it)
+        width = 2 * np.pi / img.attrs["support_range_extent"] if alg == "pfa" else m["resolution_range_theory_m"]
+        assert width == pytest.approx(m["irw_range_theory_m"] / 0.8859, rel=1e-3)
         from salkit.geometry import resolution_theory
         slant = resolution_theory(sc)["slant_range"]  # c / (2 B_eff), B_eff = k * gate
         assert m["resolution_range_theory_m"] == pytest.approx(slant / np.cos(graze), rel=0.01)
@@ -82,8 +83,12 @@ def test_windows_broaden_as_theory(win, base, alg):
     sc = parse_scenario(merge(base, processing__algorithm=alg, processing__window=win, processing__grid=grid))
     m = measure(focus(simulate(sc), sc.processing), reflectivity_phase=sc.scene.points[0].phase)
     w = window_ipr(win)
-    if alg == "pfa" or base is STRIP:  # a rectangle of support: the window's figures times the resolution
+    if base is STRIP:  # a rectangle of support: the window's figures times the resolution
         assert m["irw_range_theory_m"] == pytest.approx(w["irw_factor"] * m["resolution_range_theory_m"])
+    elif alg == "pfa":  # the rectangle it resampled onto, a little inside the collection's keystone
+        img_attrs = focus(simulate(sc), sc.processing).attrs
+        assert m["irw_range_theory_m"] == pytest.approx(w["irw_factor"] * 2 * np.pi / img_attrs["support_range_extent"])
+        assert m["irw_range_theory_m"] == pytest.approx(w["irw_factor"] * m["resolution_range_theory_m"], rel=0.02)
     else:  # the collection's own support (support_ipr): a narrow aperture's is nearly that rectangle
         assert m["irw_range_theory_m"] == pytest.approx(w["irw_factor"] * m["resolution_range_theory_m"], rel=5e-3)
         assert m["pslr_range_theory_db"] == pytest.approx(w["pslr_db"], abs=0.2)
@@ -209,3 +214,22 @@ def test_a_point_on_a_wide_arc_is_judged_against_its_own_support(arc, window):
         x, meas, th = curves[ax]
         near = (th > -25.0) & (np.abs(x) < 4 * img.attrs[f"resolution_{ax}"])
         assert near.sum() > 50 and np.max(np.abs(meas[near] - th[near])) < 0.5
+
+
+def test_polar_format_is_judged_against_the_rectangle_it_keeps():
+    """PFA resamples onto a rectangle inscribed in the keystone: on the 4-degree X-band arc (5 %
+    band) its azimuth IRW is 3.3 % wider than lambda/(2 dtheta) gives ('outside tolerance' before
+    0.27) and its range IRW 2.3 % wider than the collection's support; the theory is now the
+    window's response over that rectangle's extents, and both agree to 0.5 %."""
+    from salkit.simulate.testbeds import wide_angle
+    tb = wide_angle(4.0, 0.0, "ground", pulses=512)
+    raw = tb.dataset(np.zeros((1, 3)), np.ones(1))
+    img = focus(raw, plane="ground", algorithm="pfa")
+    m = measure(img)
+    assert img.attrs["ipr_theory"] == "window"
+    for ax in ("range", "azimuth"):
+        assert m[f"irw_{ax}_m"] == pytest.approx(m[f"irw_{ax}_theory_m"], rel=0.005)
+        assert m[f"irw_{ax}_theory_m"] == pytest.approx(
+            0.886 * 2 * np.pi / img.attrs[f"support_{ax}_extent"], rel=2e-3)
+    bp = measure(focus(raw, plane="ground"))  # the collection's support, wider: a finer response
+    assert bp["irw_azimuth_theory_m"] < 0.98 * m["irw_azimuth_theory_m"]

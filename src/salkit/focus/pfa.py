@@ -298,7 +298,9 @@ def pfa_on_grid(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_ran
     -------
     image : complex64 (nx, ny), normalised so a unit scatterer peaks near 1.
     info : dict
-        K-space support sizes.
+        K-space support sizes: samples (``support_azimuth``, ``support_range``) and the inscribed
+        rectangle's extents, rad/m (``support_azimuth_extent``, ``support_range_extent``: the
+        image's IRW is the window's factor times 2 pi over them).
     """
     c = SPEED_OF_LIGHT
     P, M = ph.shape
@@ -372,7 +374,8 @@ def pfa_on_grid(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_ran
     _finalise(img, np.ascontiguousarray(az, np.float64), np.ascontiguousarray(rg, np.float64),
               plane.azimuth, plane.range, pc, kx_c, ky_c, 4 * np.pi * freq[M // 2] / c,
               np.float32(1.0 / (w_a.sum() * w_r.sum())))
-    return img.astype(np.complex64, copy=False), {"support_azimuth": nkx, "support_range": nky}
+    return img.astype(np.complex64, copy=False), {"support_azimuth": nkx, "support_range": nky,
+                                                  "support_azimuth_extent": nkx * dkx, "support_range_extent": nky * dky}
 
 
 def pfa_memory(sizes: Sizes) -> float:

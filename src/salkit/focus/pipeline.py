@@ -296,11 +296,11 @@ def focus_sal(raw: xr.Dataset, processing: Optional[Processing] = None, *, scena
             result, _, _, used = form_image(ph, p, g, algorithm=alg, window_name=window_name, accuracy=accuracy,
                                             progress=progress, tiling=tiling, pulses=pulses, sink=w.write,
                                             client=client)
-            w.close(_result_attrs(result.info, used, tiling))
+            w.close(_result_attrs(result.info, used, tiling, attrs))
         return open_dataset(out, lazy=True)
     result, ig, win, used = form_image(ph, p, g, algorithm=alg, window_name=window_name, accuracy=accuracy,
                                        progress=progress, tiling=tiling, pulses=pulses, client=client)
-    attrs.update(_result_attrs(result.info, used, tiling))
+    attrs.update(_result_attrs(result.info, used, tiling, attrs))
     image = make_image_dataset(result.image, ig.azimuth, ig.range, ig.plane, attrs, truth)
     return add_collection_geometry(image, raw, ph)
 
@@ -390,10 +390,18 @@ def _image_attrs(ph: PhaseHistory, raw: xr.Dataset, scenario, g: Grid, alg: str,
     return attrs
 
 
-def _result_attrs(info: dict, used: dict, tiling) -> dict:
-    """An image's attributes from its forming: accuracy, support, and how it was cut."""
+def _result_attrs(info: dict, used: dict, tiling, known: dict | None = None) -> dict:
+    """An image's attributes from its forming: accuracy, support, and how it was cut; and, for a
+    former that resampled onto a rectangle of support (``support_*_extent``, rad/m, polar format),
+    the IRW theory of that rectangle: the window's factor times 2 pi over its extents (``known``:
+    the attributes set before forming, with the window's factor)."""
     attrs = {"accuracy": used["accuracy"], "range_upsample": used["range_upsample"]}
     attrs.update({k: v for k, v in info.items() if k.startswith(("support_", "cover_", "illuminated_", "ffbp_", "pfa_"))})
+    if known is not None and known.get("ipr_theory") == "window" and "window_irw_factor" in known:
+        for ax in ("range", "azimuth"):
+            if info.get(f"support_{ax}_extent", 0) > 0:
+                attrs[f"irw_{ax}_theory"] = float(known["window_irw_factor"]) * 2 * np.pi / float(
+                    info[f"support_{ax}_extent"])
     if tiling.tiled:
         attrs.update(tiling=tiling.describe(), tiles=tiling.n_tiles, tile_nx=tiling.tile_nx, tile_ny=tiling.tile_ny,
                      pulse_block=tiling.pulse_block)

@@ -513,7 +513,10 @@ def cut_curves(details: dict, attrs: dict, span: float = 8.0, positions: np.ndar
         if support:
             th = support_curve(np.asarray(positions, np.float64), freq, np.asarray(attrs[f"{name}_axis"], np.float64),
                                x[keep], res, attrs.get("window", "none"))
-        else:
-            th = theory_ipr(attrs.get("window", "none"), x[keep], res)
+        else:  # the window's response at the resolution its IRW theory implies (polar format: its rectangle's)
+            width = res
+            if f"irw_{name}_theory" in attrs and float(attrs.get("window_irw_factor", 0)) > 0:
+                width = float(attrs[f"irw_{name}_theory"]) / float(attrs["window_irw_factor"])
+            th = theory_ipr(attrs.get("window", "none"), x[keep], width)
         out[name] = (x[keep], 10 * np.log10(np.maximum(y[keep], 1e-8)), 10 * np.log10(np.maximum(th, 1e-8)))
     return out
