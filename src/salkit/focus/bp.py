@@ -131,7 +131,7 @@ def backprojection_former(interpolation: str, default_upsample: int = BP_UPSAMPL
         """
         P, M = ph.data.shape
         info = {"support_azimuth": P, "support_range": M}
-        if ph.mode == "stripmap" and ph.real_aperture > 0:
+        if ph.beam_limited:
             img = stripmap_backprojection(ph, grid.plane, grid.azimuth, grid.range, window, upsample=upsample,
                                           progress=progress, interpolation=interpolation)
             return ImageResult(img, info)

@@ -236,7 +236,7 @@ def form_exact(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: i
         For stripmap data (its beam equalisation is ``bp``'s), or an estimated time above
         :func:`max_seconds`.
     """
-    if ph.mode == "stripmap" and ph.real_aperture > 0:
+    if ph.beam_limited:
         raise ScenarioError("processing.algorithm", "exact", form_exact.spec.refusal("stripmap", True))
     P, M = ph.data.shape
     nx, ny = grid.shape

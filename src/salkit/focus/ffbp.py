@@ -1102,7 +1102,7 @@ def form_ffbp(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: in
     ScenarioError
         For stripmap data (its beam equalisation is done by ``bp``).
     """
-    if ph.mode == "stripmap" and ph.real_aperture > 0:
+    if ph.beam_limited:
         raise ScenarioError("processing.algorithm", "ffbp", form_ffbp.spec.refusal("stripmap", True))
     P, M = ph.data.shape
     wa = window(P)

@@ -59,6 +59,12 @@ class PhaseHistory:
         """M times the frequency step, Hz."""
         return self.freq.size * float(self.freq[1] - self.freq[0])
 
+    @property
+    def beam_limited(self) -> bool:
+        """Stripmap with a telescope: each pixel sees only the pulses of its beam (spotlight, or a
+        stripmap without an aperture, lets every pulse see every pixel)."""
+        return self.mode == "stripmap" and self.real_aperture > 0
+
 
 def phase_history(raw: xr.Dataset, chirp_correction: str = "none",
                   phase_noise_correction: str = "none") -> PhaseHistory:
@@ -121,9 +127,10 @@ def theory_resolution(ph: PhaseHistory, plane) -> dict:
         ``range``, ``azimuth`` (m), ``bandwidth`` (Hz), ``angle`` (rad).
     """
     ang = processed_angle(ph.positions, ph.wavelength, ph.mode, ph.real_aperture)
-    look = -ph.center_position / np.linalg.norm(ph.center_position)
-    rho_r, rho_a, _ = plane_resolution(ph.bandwidth, ph.wavelength, ang, look, plane.range)
-    if not (ph.mode == "stripmap" and ph.real_aperture > 0):  # spotlight: every pulse sees every pixel
+    if ph.beam_limited:
+        look = -ph.center_position / np.linalg.norm(ph.center_position)
+        rho_r, rho_a, _ = plane_resolution(ph.bandwidth, ph.wavelength, ang, look, plane.range)
+    else:  # every pulse sees every pixel: the K-space support's extent
         rho_r, rho_a = support_resolution(ph.positions, ph.bandwidth, ph.wavelength, ph.center_position,
                                           plane.azimuth, plane.range)
     return {"range": rho_r, "azimuth": rho_a, "bandwidth": ph.bandwidth, "angle": ang}

@@ -368,7 +368,7 @@ def _image_attrs(ph: PhaseHistory, raw: xr.Dataset, scenario, g: Grid, alg: str,
         "phase_reference": "track" if ph.mode == "stripmap" else former_spec(alg).phase_reference,
         "aperture_center": ph.center_position,
     }
-    if not (ph.mode == "stripmap" and ph.real_aperture > 0) and former_spec(alg).support == "collection":
+    if not ph.beam_limited and former_spec(alg).support == "collection":
         # a spotlight image holding the collection's K-space support: its point's response is that
         # support's transform (an annular sector past a few degrees, not the window's rectangle)
         plane = ImageGrid.of(ph, g).plane

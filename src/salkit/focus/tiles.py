@@ -454,7 +454,7 @@ def form_tile(pulses, tig: ImageGrid, window: Window, tiling: Tiling, upsample: 
     """
     spec = former_spec(tiling.algorithm)
     probe = pulses.probe
-    if tiling.pulse_block < tiling.pulses and spec.pulse_blocks(probe.mode == "stripmap" and probe.real_aperture > 0):
+    if tiling.pulse_block < tiling.pulses and spec.pulse_blocks(probe.beam_limited):
         return spec.blocks(pulses, tig, window, tiling.blocks, upsample, accuracy)
     res = spec.form(pulses.whole(), tig, window, upsample=upsample, accuracy=accuracy)
     return res.image, res.info
@@ -528,7 +528,7 @@ def form_tiles(pulses, ig: ImageGrid, window: Window, tiling: Tiling, *, upsampl
     """
     blocked = tiling.pulse_block < tiling.pulses
     probe = pulses.probe
-    spotlight = not (probe.mode == "stripmap" and probe.real_aperture > 0)
+    spotlight = not probe.beam_limited
     if blocked and not former_spec(tiling.algorithm).pulse_blocks(not spotlight):
         blockers = ", ".join(n for n, s in FORMERS.items() if s.blocks is not None)
         raise ScenarioError("processing.algorithm", tiling.algorithm, f"only {blockers} form the pulses of spotlight "
