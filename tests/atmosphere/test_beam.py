@@ -65,6 +65,27 @@ def test_gains_follow_the_phase_screen_sign_convention():
     assert abs(g0[0, 0] - 1) < 1e-6  # normalised to the vacuum boresight
 
 
+def test_the_vacuum_reference_is_propagated_once_a_sampling(monkeypatch):
+    """Two paths of other screens on one grid share the vacuum boresight field the gains are
+    normalised by: the second call propagates its pulses only, and the reference it reuses is the
+    vacuum propagation's own number (another grid gets its own)."""
+    import salkit.atmosphere.beam as beam
+    path = _path(1e-15, n=400)
+    other = _path(1e-15, seed=4, n=400)
+    s = plan_for_path(path, D, 1.22)
+    beam._vacuum_boresight.cache_clear()
+    calls = []
+    real = beam.transmit_field
+    monkeypatch.setattr(beam, "transmit_field", lambda *a, **k: calls.append(len(a) == 3) or real(*a, **k))
+    tg = np.array([[0.0, 0.0, 0.0]])
+    two_way_gains(path, _positions(2), tg, D, 1.22, sampling=s)
+    two_way_gains(other, _positions(2), tg, D, 1.22, sampling=s)
+    assert calls == [True, False, False, False, False]  # one vacuum propagation, then the four pulses
+    assert beam._vacuum_boresight(s, path.wavelength, D) == complex(real(s, path.wavelength, D)[0, 0])
+    coarser = dataclasses.replace(s, deltan=1.5 * s.deltan)
+    assert beam._vacuum_boresight(coarser, path.wavelength, D) != beam._vacuum_boresight(s, path.wavelength, D)
+
+
 def test_geometric_optics_limit_reproduces_the_ray_phase():
     """Screens whose eddies are all larger than the Fresnel zone (inner scale 1 m against
     sqrt(lambda L) = 0.14 m) are the geometric-optics limit, where the wave's phase is the ray's:

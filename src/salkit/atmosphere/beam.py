@@ -24,6 +24,7 @@ the ray's crossing, so the frozen screens move across the beam as the platform f
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -324,6 +325,14 @@ def sample_field(field: np.ndarray, deltan: float, coords: np.ndarray) -> np.nda
     return out
 
 
+@functools.lru_cache(maxsize=8)
+def _vacuum_boresight(s: BeamSampling, wavelength: float, aperture: float) -> complex:
+    """The vacuum transmit field at the scene's centre (grid index 0), the gains' reference: one
+    propagation of the whole grid for one number, so it is made once per sampling, wavelength and
+    aperture (it depends on nothing else: paths of other screens on the same grid share it)."""
+    return complex(transmit_field(s, wavelength, aperture)[0, 0])
+
+
 def two_way_gains(path, positions: np.ndarray, targets: np.ndarray, aperture: float, region: float,
                   sampling: BeamSampling | None = None, progress=None) -> tuple[np.ndarray, BeamSampling]:
     """Two-way complex gains (P, S) of point scatterers through a frozen path, wave optics:
@@ -354,7 +363,7 @@ def two_way_gains(path, positions: np.ndarray, targets: np.ndarray, aperture: fl
     s = sampling or plan_for_path(path, aperture, region)
     lam = path.wavelength
     coords = np.stack([targets @ path.a, targets @ path.b], axis=1)
-    vac0 = transmit_field(s, lam, aperture)[0, 0]
+    vac0 = _vacuum_boresight(s, lam, aperture)
     out = np.empty((len(positions), len(targets)), np.complex128)
     for p, pos in enumerate(positions):
         lam_z = path.z / float(pos @ path.u0)  # ray to the scene centre crosses layer z at lam_z * pos

@@ -30,12 +30,14 @@ def _save(fig, path: str | Path) -> Path:
     """Save ``fig`` as a PNG (atomically) and close it. The constrained layout is computed once, at
     the saving resolution, and frozen before saving: ``savefig`` with a layout engine draws the
     figure twice and lays it out each time, and the layout (text extents of every tick label) was
-    half of a figure's 1.3 s, 40 % of ``make demo``'s time."""
+    half of a figure's 1.3 s, 40 % of ``make demo``'s time. The layout engine runs on its own, not
+    inside a draw: a draw would also resample every image once more (the same PNG, 12 % less time)."""
     try:
         with atomic_path(path, suffix=".png") as tmp:
-            if fig.get_layout_engine() is not None:
+            engine = fig.get_layout_engine()
+            if engine is not None:
                 fig.set_dpi(SAVE_DPI)
-                fig.draw_without_rendering()  # lays the figure out
+                engine.execute(fig)  # lays the figure out (text extents at the saving resolution)
                 fig.set_layout_engine(None)  # keeps those positions: savefig draws once
             fig.savefig(tmp, dpi=SAVE_DPI)
     finally:
