@@ -21,6 +21,11 @@ from numba import types
 from numba.core.registry import cpu_target
 from numba.extending import intrinsic
 
+from ..signals.vectors import array_data as _data
+from ..signals.vectors import load_vector as _load
+from ..signals.vectors import splat
+from ..signals.vectors import store_vector as _store
+
 _F32 = ir.FloatType()
 _I32 = ir.IntType(32)
 _I64 = ir.IntType(64)
@@ -48,20 +53,6 @@ def wide_vectors() -> bool:
     return "+avx512f" in features.split(",")
 
 
-def _data(context, builder, aty, aval):
-    return context.make_array(aty)(context, builder, aval).data
-
-
-def _load(builder, base, j, vty):
-    p = builder.bitcast(builder.gep(base, [j]), vty.as_pointer())
-    return builder.load(p, align=4)
-
-
-def _store(builder, v, base, j):
-    p = builder.bitcast(builder.gep(base, [j]), v.type.as_pointer())
-    builder.store(v, p, align=4)
-
-
 def _gather_rows(builder, base, offsets, vty):
     """One short vector load a pixel: ``vty`` at ``base + offsets[lane]`` for the eight lanes of the
     <8 x i32> ``offsets`` (each pixel's bins are adjacent, so a gather is eight plain loads)."""
@@ -77,8 +68,7 @@ def _mask(*ix):
 
 
 def _splat(builder, x):
-    v = builder.insert_element(ir.Constant(_V8F, ir.Undefined), x, ir.Constant(_I32, 0))
-    return builder.shuffle_vector(v, v, _mask(*([0] * 8)))
+    return splat(builder, x, _V8F)
 
 
 def transpose8(builder, rows):

@@ -494,7 +494,10 @@ def processed_angle(positions: np.ndarray, wavelength: float, mode: str = "spotl
     n = positions.shape[0]
     at = np.unique(np.round(np.linspace(0, n - 1, min(n, ANGLE_CHECKPOINTS + 1))).astype(np.int64))
     u = positions[at] / np.linalg.norm(positions[at], axis=1)[:, None]
-    swept = sum(angle_between(u[i], u[i + 1]) for i in range(at.size - 1))
+    # each step's angle as angle_between gives it (atan2 of the cross and dot products), all steps at once
+    cross = np.linalg.norm(np.cross(u[:-1], u[1:]), axis=1)
+    dot = np.einsum("ij,ij->i", u[:-1], u[1:])
+    swept = float(np.sum(np.arctan2(cross, dot)))
     return swept * n / (n - 1)
 
 

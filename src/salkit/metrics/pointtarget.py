@@ -9,11 +9,15 @@ from __future__ import annotations
 import math
 from functools import lru_cache
 
+import lazy_loader as _lazy
 import numpy as np
 
 from ..constants import SPEED_OF_LIGHT
 from ..signals.windows import window
 from ..tolerances import GRID_SPACING_OF_RESOLUTION
+
+# loaded on first use, as salkit.signals.windows does (scipy.signal costs 0.5 s to import)
+_signal = _lazy.load("scipy.signal", suppress_warning=True)
 
 SIDELOBE_SPAN = 10.0  # resolution cells either side counted in PSLR/ISLR
 
@@ -340,11 +344,22 @@ def _support_cut(s: np.ndarray, freq: np.ndarray, wp: np.ndarray, wf: np.ndarray
     # offset x (m) turns bin b by 4 pi (b step) x / c: an L-point transform samples x every c/(2 L step)
     L = 1 << int(math.ceil(math.log2(max(nb + 1, SUPPORT_SAMPLES_PER_CELL * SPEED_OF_LIGHT / (2 * step * resolution)))))
     dx = SPEED_OF_LIGHT / (2 * L * step)
-    h = np.fft.fftshift(np.fft.fft(H, L))
-    j = np.arange(L) - L // 2
-    h = np.abs(h) / np.sinc(j / L) ** 2
-    keep = np.abs(j) * dx <= half_cells * resolution
-    return h[keep], dx
+    return _offsets_transform(H, L, dx, half_cells * resolution), dx
+
+
+def _offsets_transform(H: np.ndarray, L: int, dx: float, reach: float) -> np.ndarray:
+    """|the L-point transform of ``H``| at the offsets j dx within ``reach`` (m) of 0, j from -L/2,
+    divided by the deposit's taper sinc^2(j / L). Those offsets are a few per cent of the L: a
+    chirp-z transform gives them alone (the FFT of all L, then the cut, where they are most)."""
+    J = min(int(math.floor(reach / dx)) + 1, L // 2)
+    while J > 0 and J * dx > reach:
+        J -= 1
+    j = np.arange(-J, J + 1)
+    if 8 * J < L:
+        h = _signal.czt(H, 2 * J + 1, np.exp(-2j * np.pi / L), np.exp(-2j * np.pi * J / L))
+    else:
+        h = np.fft.fftshift(np.fft.fft(H, L))[L // 2 - J:L // 2 + J + 1]
+    return np.abs(h) / np.sinc(j / L) ** 2
 
 
 def _support_samples(positions: np.ndarray, freq: np.ndarray, window_name: str, nbar: int, sll: float):

@@ -18,9 +18,10 @@ from numba import njit, prange
 
 from ..atmosphere.path import path_phase
 from ..constants import SPEED_OF_LIGHT
+from ..signals.vectors import LANES, caxpy16
 
 _TWO_PI = 2.0 * math.pi
-_BLOCK = 16
+_BLOCK = LANES  # samples a block of the linear chirp's phase recurrence
 
 
 @njit(cache=True, inline="always")
@@ -41,7 +42,8 @@ def _beam(dx, dy, dz, R, bx, by, bz, table, dsin):
 @njit(parallel=True, cache=True, fastmath=False)
 def simulate_linear(pos, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp, table, dsin,
                     out_re, out_im, scr, scr_z, scr_org, scr_dx, u0, ax_a, ax_b, gain):
-    """Stop-and-go, linear chirp: phase recurrence over fast time in blocks of 16 samples.
+    """Stop-and-go, linear chirp: phase recurrence over fast time in blocks of 16 samples, each
+    block's sixteen samples accumulated as one vector (:func:`salkit.signals.vectors.caxpy16`).
 
     ``scr`` (L, n, n) are turbulence screens (L = 0: none); each echo then carries the two-way
     path phase, twice the one-way phase along the antenna-scatterer ray (see atmosphere.path).
@@ -61,8 +63,8 @@ def simulate_linear(pos, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp, tab
     B = _BLOCK
     c = SPEED_OF_LIGHT
     for p in prange(P):
-        acc_re = np.zeros(N, np.float32)
-        acc_im = np.zeros(N, np.float32)
+        acc_re = np.zeros(N + B, np.float32)  # a block's width of padding: the last block's masked lanes
+        acc_im = np.zeros(N + B, np.float32)
         pw_re = np.empty(B, np.float32)
         pw_im = np.empty(B, np.float32)
         px, py, pz = pos[p, 0], pos[p, 1], pos[p, 2]
@@ -115,21 +117,12 @@ def simulate_linear(pos, ref, bore, scat, amp_re, amp_im, t0, dt, f0, k, tp, tab
             rb_re = q_re
             rb_im = q_im
             n = nlo
-            while n + B <= nhi + 1:
-                cr = np.float32(cur_re)
-                ci = np.float32(cur_im)
-                for j in range(B):
-                    acc_re[n + j] += cr * pw_re[j] - ci * pw_im[j]
-                    acc_im[n + j] += cr * pw_im[j] + ci * pw_re[j]
+            while n <= nhi:  # sixteen samples a block, the last block's lanes past nhi masked
+                caxpy16(acc_re, acc_im, pw_re, pw_im, n, np.float32(cur_re), np.float32(cur_im), min(B, nhi + 1 - n))
                 tr = cur_re * rb_re - cur_im * rb_im
                 cur_im = cur_re * rb_im + cur_im * rb_re
                 cur_re = tr
                 n += B
-            cr = np.float32(cur_re)
-            ci = np.float32(cur_im)
-            for j in range(nhi + 1 - n):
-                acc_re[n + j] += cr * pw_re[j] - ci * pw_im[j]
-                acc_im[n + j] += cr * pw_im[j] + ci * pw_re[j]
         for n in range(N):
             out_re[p, n] = acc_re[n]
             out_im[p, n] = acc_im[n]
