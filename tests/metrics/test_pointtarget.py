@@ -102,3 +102,21 @@ def test_analysis_of_a_wide_band_whose_power_sits_at_its_edges():
         for ax in ("range", "azimuth"):
             assert m[f"irw_{ax}_m"] == pytest.approx(t[f"irw_{ax}"], rel=0.01)
             assert m[f"pslr_{ax}_db"] == pytest.approx(t[f"pslr_{ax}"], abs=0.1)
+
+
+@pytest.mark.parametrize("L,reach_cells", [(1 << 17, 20.0), (1 << 12, 900.0), (1 << 15, 0.5)])
+def test_support_offsets_are_the_full_transforms_cut(L, reach_cells):
+    """The support theory transforms its deposit onto the offsets it keeps alone (a chirp-z
+    transform where they are few of the L): the same values as the whole L-point FFT, cut and
+    divided by the deposit's taper, to 1e-9 of the peak, and the same offsets."""
+    from salkit.metrics.pointtarget import _offsets_transform
+    rng = np.random.default_rng(int(reach_cells))
+    H = np.abs(rng.normal(size=2049)) * np.hanning(2049)
+    dx = 1e-3
+    reach = reach_cells * 64 * dx
+    j = np.arange(L) - L // 2
+    full = np.abs(np.fft.fftshift(np.fft.fft(H, L))) / np.sinc(j / L) ** 2
+    want = full[np.abs(j) * dx <= reach]
+    got = _offsets_transform(H, L, dx, reach)
+    assert got.shape == want.shape
+    assert np.max(np.abs(got - want)) <= 1e-9 * want.max()

@@ -354,11 +354,14 @@ def _offsets_transform(H: np.ndarray, L: int, dx: float, reach: float) -> np.nda
     J = min(int(math.floor(reach / dx)) + 1, L // 2)
     while J > 0 and J * dx > reach:
         J -= 1
-    j = np.arange(-J, J + 1)
     if 8 * J < L:
+        j = np.arange(-J, J + 1)
         h = _signal.czt(H, 2 * J + 1, np.exp(-2j * np.pi / L), np.exp(-2j * np.pi * J / L))
     else:
-        h = np.fft.fftshift(np.fft.fft(H, L))[L // 2 - J:L // 2 + J + 1]
+        j = np.arange(L) - L // 2
+        h = np.fft.fftshift(np.fft.fft(H, L))
+        keep = np.abs(j) * dx <= reach
+        j, h = j[keep], h[keep]
     return np.abs(h) / np.sinc(j / L) ** 2
 
 
