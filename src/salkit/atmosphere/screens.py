@@ -301,12 +301,17 @@ def phase_screens(n: int, dx: float, r0: float, count: int = 1, seed: int | None
     pairs = (count + 1) // 2
     batch = max(1, min(pairs, int(2 ** 25 // (m * m))))
     done = 0
+    single = np.dtype(dtype) == np.float32
+    rdt = np.float32 if single else np.float64
+    amp_r = amp.astype(rdt)
     for b0 in range(0, pairs, batch):
         nb = min(batch, pairs - b0)
-        single = np.dtype(dtype) == np.float32
-        rdt = np.float32 if single else np.float64
-        z = rng.standard_normal((nb, m, m), dtype=rdt) + 1j * rng.standard_normal((nb, m, m), dtype=rdt)
-        z *= amp[None].astype(rdt)
+        # the two draws as the real and imaginary parts, in place (the same numbers as a + 1j b,
+        # without its two complex temporaries)
+        z = np.empty((nb, m, m), np.complex64 if single else np.complex128)
+        z.real = rng.standard_normal((nb, m, m), dtype=rdt)
+        z.imag = rng.standard_normal((nb, m, m), dtype=rdt)
+        z *= amp_r
         field = sfft.fft2(z, workers=FFT_WORKERS, overwrite_x=True)[:, :n, :n]
         if samp.size:
             zs = (rng.standard_normal((nb, samp.size)) + 1j * rng.standard_normal((nb, samp.size))) * samp
@@ -314,8 +319,9 @@ def phase_screens(n: int, dx: float, r0: float, count: int = 1, seed: int | None
             for k in range(nb):
                 field[k] += (ex.T * zs[k].astype(np.complex64)) @ ey
         zt = (rng.standard_normal((nb, 2)) + 1j * rng.standard_normal((nb, 2))) * tilt
-        field += zt[:, 0, None, None] * xc[None, :, None] + zt[:, 1, None, None] * xc[None, None, :]
         for k in range(nb):
+            # the residual tilt, a screen at a time (a batch's worth of temporaries cost as much as the draws)
+            field[k] += zt[k, 0] * xc[:, None] + zt[k, 1] * xc[None, :]
             for part in (field[k].real, field[k].imag):
                 if done < count:
                     out[done] = part
