@@ -70,3 +70,17 @@ def test_von_karman_limits():
     assert li == pytest.approx(asym, rel=0.02)
     ratio = li / structure_function(r, 0.05)  # r^2 against r^(5/3): the ratio goes as r^(1/3)
     assert ratio[0] / ratio[1] == pytest.approx(10 ** (-1 / 3), rel=0.01)
+
+
+def test_spectral_constants_are_their_gamma_expressions_to_the_last_bit():
+    """The module writes its constants as numbers (scipy.special loads on first use, not at import):
+    they are the gamma-function expressions exactly, and 0.023 / 6.88 as the literature rounds them."""
+    import math
+    from scipy import special
+    from salkit.atmosphere import turbulence as t
+    g = special.gamma
+    assert t.PSD_CONST == (g(11 / 6) ** 2 / (2 * math.pi ** (11 / 3))) * (24 / 5 * g(6 / 5)) ** (5 / 6)
+    assert t.SF_CONST == 2 * (24 / 5 * g(6 / 5)) ** (5 / 6)
+    assert t.VK_CONST == (g(11 / 6) / (2 ** (5 / 6) * math.pi ** (8 / 3))) * (24 / 5 * g(6 / 5)) ** (5 / 6)
+    assert t.GAMMA_5_6 == g(5 / 6)
+    assert round(t.PSD_CONST, 3) == 0.023 and round(t.SF_CONST, 2) == 6.88

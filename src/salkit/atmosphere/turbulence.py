@@ -10,17 +10,24 @@ from __future__ import annotations
 
 import math
 
+import lazy_loader as _lazy
 import numpy as np
-from scipy import integrate, special
 
 from ..errors import ScenarioError
+
+# scipy.special and scipy.integrate load when a Bessel function or a quadrature is first needed (0.4 s
+# of every process's start otherwise, Dask workers' and the command line's among them)
+_special = _lazy.load("scipy.special", suppress_warning=True)
+_integrate = _lazy.load("scipy.integrate", suppress_warning=True)
 
 PLANE = 0.423
 SPHERICAL = 0.159
 # 2 * (24/5 * Gamma(6/5))^(5/6) * Gamma(11/6) / Gamma(1/6) ... the PSD constant for f in cycles/m:
 # Phi(f) = 0.023 r0^(-5/3) f^(-11/3); exactly (Gamma(11/6)^2 / (2 pi^(11/3))) (24/5 Gamma(6/5))^(5/6)
-PSD_CONST = (special.gamma(11 / 6) ** 2 / (2 * math.pi ** (11 / 3))) * (24 / 5 * special.gamma(6 / 5)) ** (5 / 6)
-SF_CONST = 2 * (24 / 5 * special.gamma(6 / 5)) ** (5 / 6)  # 6.8839
+# The constants below are those expressions evaluated with scipy._special.gamma, to the last bit
+# (tests/atmosphere/test_turbulence.py evaluates them again): math.gamma differs in the last bit.
+PSD_CONST = 0.02289558710855519
+SF_CONST = 6.883877182293812  # 2 (24/5 Gamma(6/5))^(5/6)
 
 CLASSES = ((6e-16, "very weak"), (6e-15, "weak"), (6e-14, "medium"), (6e-13, "strong"))
 
@@ -123,7 +130,7 @@ def r0_path(cn2_profile, z, wavelength, wave: str = "plane", source_at=None):
         src = z[-1] if source_at is None else source_at
         L = abs(src - z[0])
         w = (np.abs(src - z) / L) ** (5 / 3)
-    integral = integrate.trapezoid(cn2 * w, z) if z.size > 1 else float(cn2[0])
+    integral = np.trapezoid(cn2 * w, z) if z.size > 1 else float(cn2[0])
     return (PLANE * k ** 2 * integral) ** (-3 / 5)
 
 
@@ -255,7 +262,9 @@ def psd(f, r0: float, outer_scale: float | None = None, inner_scale: float | Non
     return out
 
 
-VK_CONST = (special.gamma(11 / 6) / (2 ** (5 / 6) * math.pi ** (8 / 3))) * (24 / 5 * special.gamma(6 / 5)) ** (5 / 6)
+#: (Gamma(11/6) / (2^(5/6) pi^(8/3))) (24/5 Gamma(6/5))^(5/6), the von Karman spectrum's constant
+VK_CONST = 0.08583068106228546
+GAMMA_5_6 = 1.1287870299081262  # Gamma(5/6)
 
 
 def phase_variance(r0: float, outer_scale: float) -> float:
@@ -273,7 +282,7 @@ def phase_variance(r0: float, outer_scale: float) -> float:
     float
         rad^2.
     """
-    return (outer_scale / r0) ** (5 / 3) * VK_CONST * 2 ** (-1 / 6) * special.gamma(5 / 6)
+    return (outer_scale / r0) ** (5 / 3) * VK_CONST * 2 ** (-1 / 6) * GAMMA_5_6
 
 
 def _vk_deficit(x):
@@ -291,11 +300,11 @@ def _vk_deficit(x):
     acc = np.zeros_like(xs)
     for k in range(0, 30):
         if k >= 1:
-            acc += xs ** (2 * k) / (math.factorial(k) * special.gamma(k + 1 - nu))
-        acc -= xs ** (2 * k + 2 * nu) / (math.factorial(k) * special.gamma(k + 1 + nu))
+            acc += xs ** (2 * k) / (math.factorial(k) * _special.gamma(k + 1 - nu))
+        acc -= xs ** (2 * k + 2 * nu) / (math.factorial(k) * _special.gamma(k + 1 + nu))
     out[small] = -pre * acc
     xb = x[~small]
-    out[~small] = 2 ** (nu - 1) * special.gamma(nu) - xb ** nu * special.kv(nu, xb)
+    out[~small] = 2 ** (nu - 1) * _special.gamma(nu) - xb ** nu * _special.kv(nu, xb)
     return out
 
 
@@ -336,11 +345,11 @@ def structure_function(r, r0: float, outer_scale: float | None = None, inner_sca
     out = np.empty_like(r)
     for i, ri in enumerate(r):
         def g(f):
-            return 4 * math.pi * psd(f, r0, outer_scale, inner_scale) * (1 - special.j0(2 * math.pi * f * ri)) * f
+            return 4 * math.pi * psd(f, r0, outer_scale, inner_scale) * (1 - _special.j0(2 * math.pi * f * ri)) * f
         pts = {0.0, fm / 100, fm / 10, fm / 3, fm, 2 * fm, 4 * fm, 8 * fm, 16 * fm}
         if has_L0:
             pts |= {0.1 / outer_scale, 1 / outer_scale, 10 / outer_scale}
         pts |= {k / ri for k in range(1, 200) if k / ri < 16 * fm}
         edges = sorted(p for p in pts if p <= 16 * fm)
-        out[i] = sum(integrate.quad(g, a, b, limit=200)[0] for a, b in zip(edges[:-1], edges[1:]))
+        out[i] = sum(_integrate.quad(g, a, b, limit=200)[0] for a, b in zip(edges[:-1], edges[1:]))
     return out

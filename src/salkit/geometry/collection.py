@@ -7,12 +7,14 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import lazy_loader as _lazy
 import numpy as np
-from scipy.special import j1
 
 from ..constants import SPEED_OF_LIGHT
 from ..params.models import Grid, Scenario
 from .orbit import keplerian_positions
+
+_special = _lazy.load("scipy.special", suppress_warning=True)  # on first use: 0.3 s of a process's start
 
 
 @dataclass(frozen=True)
@@ -102,7 +104,7 @@ def beam_gain_table(wavelength: float, diameter: float, n: int = 8192, u_max: fl
     u = np.linspace(0.0, u_max, n)
     one_way = np.ones_like(u)
     nz = u > 0
-    one_way[nz] = 2.0 * j1(u[nz]) / u[nz]
+    one_way[nz] = 2.0 * _special.j1(u[nz]) / u[nz]
     dsin = (u_max / (n - 1)) * wavelength / (math.pi * diameter)
     return (one_way ** 2).astype(np.float64), dsin
 
@@ -623,7 +625,7 @@ def equalisation_efficiency(scenario: Scenario, collection: Collection | None = 
     uu = math.pi * p.real_aperture * sin_off / w.wavelength
     g = np.ones_like(uu)
     nz = uu > 0
-    g[nz] = (2 * j1(uu[nz]) / uu[nz]) ** 2
+    g[nz] = (2 * _special.j1(uu[nz]) / uu[nz]) ** 2
     return float(1.0 / np.mean(1.0 / g ** 2))
 
 

@@ -5,16 +5,18 @@ from __future__ import annotations
 
 from functools import lru_cache
 
+import lazy_loader as _lazy
 import numpy as np
-from pyproj import Transformer
 
 from .collection import ImagePlane
 
+_pyproj = _lazy.load("pyproj", suppress_warning=True)  # on first use, not at every process's start
+
 
 @lru_cache(maxsize=2)
-def _transformer(to_ecef: bool) -> Transformer:
+def _transformer(to_ecef: bool):
     src, dst = ("EPSG:4979", "EPSG:4978") if to_ecef else ("EPSG:4978", "EPSG:4979")
-    return Transformer.from_crs(src, dst, always_xy=True)
+    return _pyproj.Transformer.from_crs(src, dst, always_xy=True)
 
 
 def check_origin(origin_llh) -> np.ndarray:
