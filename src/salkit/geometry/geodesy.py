@@ -14,7 +14,7 @@ _pyproj = _lazy.load("pyproj", suppress_warning=True)  # on first use, not at ev
 
 
 @lru_cache(maxsize=2)
-def _transformer(to_ecef: bool):
+def _transformer(to_ecef: bool) -> "_pyproj.Transformer":
     src, dst = ("EPSG:4979", "EPSG:4978") if to_ecef else ("EPSG:4978", "EPSG:4979")
     return _pyproj.Transformer.from_crs(src, dst, always_xy=True)
 
