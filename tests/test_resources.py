@@ -1,4 +1,5 @@
 """The memory guard: estimates from sizes, refusals with the numbers, before any work."""
+import os
 import time
 
 import pytest
@@ -86,6 +87,32 @@ def test_ffbp_estimate_bounds_its_allocation():
     assert "ffbp" in what
     assert peak <= need < 5 * peak, (peak, need)
     assert np.isfinite(need)
+
+
+def test_the_workers_plugin_sets_up_where_the_script_imported_only_salkit_resources():
+    """The plugin a local cluster's workers get is unpickled there after the worker imported the calling
+    script again; a script that imports ``salkit.resources`` and no numba at its top (``from
+    salkit.resources import dask_client``) left numba unloaded there. numba was then a stand-in in
+    ``sys.modules`` (lazy_loader's), the plugin's pickle imported ``numba.core`` past it, and its
+    setup failed ("module 'numba.core' has no attribute 'config'"): no cluster started. Here the
+    plugin is pickled in one process and set up in another that imported only ``salkit.resources``;
+    and there, ``import numba.core`` before any salkit use of numba leaves numba whole."""
+    import subprocess
+    import sys
+    dump = ("import sys, cloudpickle, salkit.resources as r\n"
+            "sys.stdout.buffer.write(cloudpickle.dumps(r._numba_threads_plugin()))\n")
+    load = ("import sys, cloudpickle\n"
+            "import salkit.resources\n"
+            "plugin = cloudpickle.loads(sys.stdin.buffer.read())\n"
+            "plugin.setup(None)\n"
+            "import numba.core\n"
+            "import numba\n"
+            "print(numba.core.config.NUMBA_NUM_THREADS, numba.njit(lambda x: x + 1)(1))\n")
+    blob = subprocess.run([sys.executable, "-c", dump], capture_output=True, timeout=60, check=True).stdout
+    r = subprocess.run([sys.executable, "-c", load], input=blob, capture_output=True, timeout=60,
+                       env={**os.environ, "NUMBA_NUM_THREADS": "1"})
+    assert r.returncode == 0, r.stderr.decode()
+    assert r.stdout.decode().split() == ["1", "2"]
 
 
 def test_local_cluster_workers_run_numba_on_one_thread_even_from_a_script(tmp_path):

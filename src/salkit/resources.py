@@ -17,13 +17,14 @@ from contextlib import contextmanager
 from functools import lru_cache
 from multiprocessing import resource_tracker as _resource_tracker
 
-import lazy_loader as _lazy
-
 from .errors import EnvironmentProblem, ResourceError, ScenarioError
 from ._lazy import load as _deferred
 
 _dask_distributed = _deferred("dask.distributed")  # not lazy_loader: it imports dask itself at once
-_numba = _lazy.load("numba", suppress_warning=True)
+# not lazy_loader's stand-in either: that sits in sys.modules as "numba", and an ``import numba.core`` before
+# its first use (unpickling anything that names a numba submodule does that) leaves numba.core without its
+# ``config`` (a Dask worker of a script that imported salkit.resources at its top failed to start so)
+_numba = _deferred("numba")
 
 _LIMIT: int | None = None
 _UNITS = {"": 1, "b": 1, "k": 1e3, "kb": 1e3, "m": 1e6, "mb": 1e6, "g": 1e9, "gb": 1e9, "t": 1e12, "tb": 1e12,
@@ -259,12 +260,19 @@ def _numba_threads_plugin_class():
         name = "salkit-numba-threads"
 
         def setup(self, worker):  # pragma: no cover - in the worker process (tested from a script)
-            try:
-                _numba.core.config.reload_config()
-            except RuntimeError:  # its threads already run: tasks use fewer of them (task_numba_threads)
-                pass
+            _reload_numba_config()  # a module-level function: pickled by name, no module of it by value
 
     return NumbaThreadsFromEnvironment
+
+
+def _reload_numba_config() -> None:
+    """numba's configuration read again from this process's environment (a Dask worker's, before any
+    task runs); left as it is where numba's threads already run (tasks then use fewer of them:
+    :func:`task_numba_threads`)."""
+    try:
+        _numba.core.config.reload_config()
+    except RuntimeError:
+        pass
 
 
 def _numba_threads_plugin():
