@@ -1,12 +1,13 @@
 """The memory guard: estimates from sizes, refusals with the numbers, before any work."""
 import os
+import sys
 import time
 
 import pytest
 
 from salkit.errors import ResourceError, ScenarioError
 from salkit.params import parse_scenario
-from salkit.resources import available_memory, check_memory, parse_size, set_limit
+from salkit.resources import WORKER_START_METHOD, available_memory, check_memory, parse_size, set_limit
 
 from .conftest import SPOT, merge
 
@@ -113,6 +114,28 @@ def test_the_workers_plugin_sets_up_where_the_script_imported_only_salkit_resour
                        env={**os.environ, "NUMBA_NUM_THREADS": "1"})
     assert r.returncode == 0, r.stderr.decode()
     assert r.stdout.decode().split() == ["1", "2"]
+
+
+@pytest.mark.skipif(WORKER_START_METHOD != "forkserver", reason="no fork server on this platform: workers spawn")
+def test_local_cluster_workers_are_forked_with_salkits_task_modules_loaded_restarted_ones_too():
+    """A local cluster's workers come from multiprocessing's fork server, which imported salkit's task
+    modules once: before any task, each worker has them, and its parent is the server, not this
+    process (a spawned worker imports them itself, ~3 s of CPU each). A worker restarted (here all of
+    them, by ``restart``) is forked the same way; the numba threads of a task stay one."""
+    from salkit.resources import WORKER_MODULES, dask_client, task_numba_threads
+
+    def origin():
+        return os.getppid(), all(m in sys.modules for m in WORKER_MODULES)
+
+    with dask_client(workers=1) as client:
+        before = list(client.run(origin).values())
+        client.restart()
+        after = list(client.run(origin).values())
+        threads = client.submit(task_numba_threads, pure=False).result()
+    (server, loaded), = before
+    assert server != os.getpid() and loaded
+    assert after == [(server, True)]
+    assert threads == 1
 
 
 def test_local_cluster_workers_run_numba_on_one_thread_even_from_a_script(tmp_path):
