@@ -296,7 +296,9 @@ def dask_client(scheduler: str | None = None, workers: int | None = None):
     with one compute thread (numba's own pool would otherwise put workers x cores threads on the
     cores). Called inside a Dask task (a sweep's point running a stack), the client of the cluster
     that task runs on (``worker_client``: the task leaves its worker's pool while its own tasks
-    run there), not a cluster of its own.
+    run there), not a cluster of its own. A local cluster's workers, restarted ones included, start
+    by :data:`WORKER_START_METHOD` (forked from a server that has imported :data:`WORKER_MODULES`
+    once, where the platform has one), whatever Dask's own setting for its clusters is.
 
     Parameters
     ----------
