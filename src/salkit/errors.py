@@ -10,6 +10,18 @@ class SalkitError(Exception):
     exit_code = 2
 
 
+class _NotGiven:
+    """The value of a field the scenario does not give (:data:`NOT_GIVEN`)."""
+
+    def __repr__(self) -> str:
+        return "NOT_GIVEN"
+
+
+#: A :class:`ScenarioError`'s value for a field that is missing: the message names the field alone
+#: (``waveform.wavelength: is required``), not a value the user did not write.
+NOT_GIVEN = _NotGiven()
+
+
 class ScenarioError(SalkitError):
     """A scenario field has a bad value.
 
@@ -18,14 +30,21 @@ class ScenarioError(SalkitError):
     field : str
         Dotted path of the field, for example ``waveform.bandwidth``.
     value : object
-        The offending value.
+        The offending value (:data:`NOT_GIVEN` for a missing field).
     constraint : str
         What the value must satisfy.
+
+    Examples
+    --------
+    >>> str(ScenarioError("waveform.bandwidth", -1.0, "must be greater than 0"))
+    'waveform.bandwidth = -1.0: must be greater than 0'
+    >>> str(ScenarioError("waveform.wavelength", NOT_GIVEN, "is required"))
+    'waveform.wavelength: is required'
     """
 
     def __init__(self, field: str, value: object, constraint: str):
         self.field, self.value, self.constraint = field, value, constraint
-        super().__init__(f"{field} = {value!r}: {constraint}")
+        super().__init__(f"{field}: {constraint}" if value is NOT_GIVEN else f"{field} = {value!r}: {constraint}")
 
 
 class SamplingError(ScenarioError):

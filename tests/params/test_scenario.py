@@ -1,7 +1,7 @@
 import pytest
 from pydantic import ValidationError
 
-from salkit.errors import ScenarioError
+from salkit.errors import NOT_GIVEN, ScenarioError
 from salkit.params import apply_overrides, dump_scenario, load_scenario, parse_scenario
 from salkit.params.models import Waveform
 
@@ -55,7 +55,50 @@ def test_missing_field_is_named():
     with pytest.raises(ScenarioError) as ei:
         parse_scenario(d)
     assert ei.value.field == "waveform.wavelength"
-    assert "required" in str(ei.value).lower()
+    assert ei.value.value is NOT_GIVEN
+    # the field alone, not its section's other values shown as if they were the missing one's
+    assert str(ei.value) == "waveform.wavelength: is required"
+
+
+def test_every_problem_is_named_not_only_the_first():
+    """A scenario with a bad value beside missing sections names the bad value too (it used to say
+    "scene = {the whole document}: is required (and 7 more problems)" and hide the -1)."""
+    with pytest.raises(ScenarioError) as ei:
+        parse_scenario({"name": "x", "waveform": {"wavelength": -1}})
+    e = ei.value
+    assert (e.field, e.value) == ("scene", NOT_GIVEN)
+    assert str(e).startswith("scene: is required")
+    assert "and 7 more problems" in e.constraint
+    assert "waveform.wavelength = -1: Input should be greater than 0" in e.constraint
+    assert "missing: waveform.bandwidth, waveform.pulse_width, waveform.prf, platform, receiver, processing" \
+        in e.constraint
+
+
+def test_many_problems_are_counted_past_the_listed_ones():
+    from salkit.params.scenario import LISTED_PROBLEMS
+    bad = {k: -1.0 for k in ("bandwidth", "pulse_width", "prf", "wavelength")}
+    platform = {**SPOT["platform"], "speed": -1.0, "altitude": -1.0, "real_aperture": -1.0, "standoff": -1.0}
+    with pytest.raises(ScenarioError) as ei:
+        parse_scenario(merge(SPOT, waveform=bad, platform=platform))
+    c = ei.value.constraint
+    assert c.startswith("Input should be greater than 0 (and 7 more problems: ")
+    assert c.count("= -1.0: Input should be greater than") == LISTED_PROBLEMS  # the first, then 5 named
+    assert c.endswith("; 2 more)")
+
+
+def test_a_down_looking_scenario_with_a_sal_section_is_told_why():
+    """experiment.kind = downlooking takes no waveform section: the error says so, lists that
+    model's fields and does not suggest the key it refuses (it said "'waveform' is not a field of
+    the scenario (did you mean 'waveform'?)", listing waveform among the fields)."""
+    d = {"name": "x", "experiment": {"kind": "downlooking"}, "waveform": {"wavelength": 1.55e-6}}
+    with pytest.raises(ScenarioError) as ei:
+        parse_scenario(d)
+    e = ei.value
+    assert e.field == "waveform"
+    assert "is not a field of a down-looking scenario" in e.constraint
+    assert "did you mean" not in e.constraint
+    assert "its fields: description, experiment, name, scene, seed" in e.constraint
+    assert "missing: scene, experiment.optics, experiment.scan, experiment.track" in e.constraint
 
 
 def test_empty_scene_rejected():

@@ -31,12 +31,27 @@ def test_bad_plans_refused_before_any_work(spot):
     with pytest.raises(ScenarioError) as e:
         make_plan(spot, [parse_vary("waveform.bandwith=1,2")])
     assert e.value.field == "--vary" and e.value.value == "waveform.bandwith"
+    # a misspelt section is the sweep's error too, not every point's (it was "none can run")
+    with pytest.raises(ScenarioError) as e:
+        make_plan(spot, [parse_vary("wavefrm.wavelength=1e-6,2e-6")])
+    assert e.value.field == "--vary" and e.value.value == "wavefrm.wavelength"
+    assert "did you mean 'waveform'?" in e.value.constraint
     with pytest.raises(ScenarioError, match="twice"):
         make_plan(spot, [parse_vary("seed=1,2"), parse_vary("seed=3,4")])
     with pytest.raises(ScenarioError, match="realisations"):
         make_plan(spot, [parse_vary("seed=1,2")], realisations=0)
     with pytest.raises(ScenarioError, match="at least one"):
         SweepPlan({}, ())
+
+
+def test_a_section_a_down_looking_scenario_lacks_is_refused_naming_the_kind():
+    from ..conftest import EXAMPLES
+    from salkit.params import load_scenario
+    dl = load_scenario(EXAMPLES / "downlooking_3d.yaml")
+    with pytest.raises(ScenarioError) as e:
+        make_plan(dl, [parse_vary("waveform.wavelength=1e-6,2e-6")])
+    assert e.value.field == "--vary" and e.value.value == "waveform.wavelength"
+    assert "is not a field of a down-looking scenario" in e.value.constraint
 
 
 def test_realisation_seeds_are_common_random_numbers(spot):

@@ -10,7 +10,7 @@ from typing import Any, Iterable, Mapping
 import yaml
 from pydantic import BaseModel, TypeAdapter, ValidationError
 
-from ..errors import EnvironmentProblem, ScenarioError, require_scenario_file
+from ..errors import NOT_GIVEN, EnvironmentProblem, ScenarioError, require_scenario_file
 from .base import FieldProblem
 from .models import AnyScenario, DownlookingScenario, Scenario
 
@@ -92,7 +92,7 @@ def did_you_mean(name: str, candidates) -> str:
     return f" (did you mean '{near[0]}'?)" if near else ""
 
 
-def unknown_key_error(loc, value=None, valid=None) -> ScenarioError:
+def unknown_key_error(loc, value=None, valid=None, kind: str = "sal") -> ScenarioError:
     """The error for a key that is not a field: names the key as written, the nearest valid key and the
     section's valid keys.
 
@@ -104,58 +104,94 @@ def unknown_key_error(loc, value=None, valid=None) -> ScenarioError:
         The value given to it.
     valid : list of str, optional
         The section's field names (default :func:`fields_at` of the location's parent).
+    kind : {"sal", "downlooking"}
+        The scenario's model (``experiment.kind = downlooking`` has no waveform, platform, receiver
+        or processing sections: its experiment block holds the whole system).
 
     Returns
     -------
     ScenarioError
+
+    Examples
+    --------
+    >>> str(unknown_key_error(["waveform", "bandwidht"], 3e9)).split(";")[0]
+    "waveform.bandwidht = 3000000000.0: 'bandwidht' is not a field of waveform (did you mean 'bandwidth'?)"
+    >>> unknown_key_error(["waveform"], {"wavelength": 1.55e-6}, kind="downlooking").constraint.split(" (")[0]
+    "'waveform' is not a field of a down-looking scenario"
     """
     parts = [p for p in loc if str(p) not in _EXPERIMENT_TAGS]
     key, section = str(parts[-1]), parts[:-1]
-    valid = fields_at(section) if valid is None else valid
-    where = ".".join(str(p) for p in section) or "the scenario"
-    hint = did_you_mean(key, valid)
+    top_down = kind == "downlooking" and not section
+    if valid is None:
+        valid = sorted(DownlookingScenario.model_fields) if top_down else fields_at(section)
+    where = ("a down-looking scenario" if top_down else ".".join(str(p) for p in section) or "the scenario")
+    hint = did_you_mean(key, [v for v in valid if v != key])
+    if top_down and key in Scenario.model_fields:
+        hint = (" (experiment.kind = downlooking: the experiment block holds the whole system, its optics, "
+                "scan and track)")
     listed = f"; its fields: {', '.join(valid)}" if valid and len(valid) <= 16 else ""
     return ScenarioError(".".join(str(p) for p in parts), value,
                          f"'{key}' is not a field of {where}{hint}{listed}")
 
 
-def _format_validation(err: ValidationError) -> ScenarioError:
-    errors = err.errors()
-    extra = [e for e in errors if e["type"] == "extra_forbidden"]
-    if extra:  # an unknown key (a typo) explains the "required" errors beside it: name it first
-        loc = list(extra[0]["loc"])
-        if loc and loc[0] in ("sal", "downlooking"):
-            loc = loc[1:]
-        value = extra[0].get("input")
-        if isinstance(value, (dict, list)) and len(repr(value)) > 120:
-            value = f"<{type(value).__name__}>"
-        e = unknown_key_error(loc, value)
-        more = len(extra) - 1
-        if more:
-            e = ScenarioError(e.field, e.value, f"{e.constraint} (and {more} more unknown key{'s' if more > 1 else ''})")
-        return e
-    first = errors[0]
-    parts = list(first["loc"])
+#: Further bad values a scenario error names after its first problem (the rest are counted), and
+#: missing fields it names.
+LISTED_PROBLEMS = 5
+LISTED_MISSING = 8
+
+
+def _short(value):
+    """A value as an error message shows it: a large section by its type alone."""
+    if isinstance(value, (dict, list)) and len(repr(value)) > 120:
+        return f"<{type(value).__name__}>"
+    return value
+
+
+def _problem(e: dict) -> tuple[str, ScenarioError]:
+    """One pydantic error as (its type: "extra", "missing" or "value", the ScenarioError that names
+    its field, value and constraint)."""
+    parts = list(e["loc"])
+    kind = "sal"
     if parts and parts[0] in ("sal", "downlooking"):  # the union's tag, not a field
-        parts = parts[1:]
+        kind = parts.pop(0)
+    if e["type"] == "extra_forbidden":
+        return "extra", unknown_key_error(parts, _short(e.get("input")), kind=kind)
     parts = [p for i, p in enumerate(parts) if not (i and parts[i - 1] == "experiment" and p in _EXPERIMENT_TAGS)]
-    problem = (first.get("ctx") or {}).get("error")
+    problem = (e.get("ctx") or {}).get("error")
     if isinstance(problem, FieldProblem):  # a check across fields that names the field it refuses
         parts += problem.field.split(".")
     loc = ".".join(str(p) for p in parts) or "scenario"
-    msg = problem.constraint if isinstance(problem, FieldProblem) else first["msg"]
-    if msg == "Field required":
-        msg = ("is required" + (" (only experiment.kind = downlooking works without the waveform, platform, "
-                                "receiver and processing sections)" if len(parts) == 1 else ""))
+    if e["type"] == "missing":
+        msg = "is required" + (" (only experiment.kind = downlooking works without the waveform, platform, "
+                               "receiver and processing sections)" if len(parts) == 1 and kind == "sal" else "")
+        return "missing", ScenarioError(loc, NOT_GIVEN, msg)
+    msg = problem.constraint if isinstance(problem, FieldProblem) else e["msg"]
     if msg.startswith("Value error, "):
         msg = msg[len("Value error, "):]
-    value = problem.value if isinstance(problem, FieldProblem) else first.get("input")
-    if isinstance(value, (dict, list)) and len(repr(value)) > 120:
-        value = f"<{type(value).__name__}>"
-    more = len(err.errors()) - 1
-    if more:
-        msg += f" (and {more} more problem{'s' if more > 1 else ''})"
-    return ScenarioError(loc, value, msg)
+    value = problem.value if isinstance(problem, FieldProblem) else e.get("input")
+    return "value", ScenarioError(loc, _short(value), msg)
+
+
+def _format_validation(err: ValidationError) -> ScenarioError:
+    """The first problem of a scenario as a ScenarioError (an unknown key first: a typo explains the
+    "required" errors beside it), its constraint followed by the others: the bad values and unknown
+    keys each with its own message, the missing fields by name."""
+    problems = [_problem(e) for e in err.errors()]
+    problems.sort(key=lambda p: p[0] != "extra")  # stable: pydantic's order otherwise
+    first, rest = problems[0][1], problems[1:]
+    others = [f"{e.field}: {e.constraint.split('; its fields')[0]}" if k == "extra" else str(e)
+              for k, e in rest if k != "missing"]
+    missing = [e.field for k, e in rest if k == "missing"]
+    notes = others[:LISTED_PROBLEMS]
+    if len(others) > LISTED_PROBLEMS:
+        notes.append(f"{len(others) - LISTED_PROBLEMS} more")
+    if missing:
+        names = ", ".join(missing[:LISTED_MISSING]) + (f" and {len(missing) - LISTED_MISSING} more"
+                                                       if len(missing) > LISTED_MISSING else "")
+        notes.append(f"missing: {names}")
+    msg = first.constraint + (f" (and {len(rest)} more problem{'s' if len(rest) > 1 else ''}: "
+                              f"{'; '.join(notes)})" if rest else "")
+    return ScenarioError(first.field, first.value, msg)
 
 
 def parse_scenario(data: Mapping[str, Any]) -> Scenario | DownlookingScenario:

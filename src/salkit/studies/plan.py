@@ -170,7 +170,8 @@ def make_plan(scenario, axes, *, zipped: bool = False, realisations: int = 1, me
         try:
             parse_scenario(apply_overrides(base, [f"{a.field}={json.dumps(a.values[0])}"]))
         except ScenarioError as e:
-            if e.field == "--set" or (e.field == a.field and "is not a field of" in e.constraint):
+            if e.field == "--set" or ((e.field == a.field or a.field.startswith(e.field + "."))
+                                      and "is not a field of" in e.constraint):  # the key, or its section
                 raise ScenarioError("--vary", a.field, e.constraint.split(";")[0].replace(
                     f"'{a.field.split('.')[-1]}' ", "")) from None
             # a value the field refuses makes that point invalid (check_points), not the sweep
