@@ -64,3 +64,15 @@ def test_a_kernel_compiling_is_said_once_and_a_cached_one_is_not(capsys, monkeyp
         assert kernel("salkit._probe")(1) == 2
         assert kernel("salkit._probe2")(2) == 3
     assert capsys.readouterr().err.count("compiling salkit's numba kernels") == 1
+
+
+def test_a_users_text_is_printed_as_written_not_as_emoji(capsys):
+    """rich turned ":-1:" in an error's value into a thumbs-down emoji ("log👎2:3")."""
+    def command():
+        raise ScenarioError("--vary", "waveform.bandwidth=log:-1:2:3", "a log sweep needs START and STOP > 0")
+
+    with pytest.raises(typer.Exit):
+        _guard(command)()
+    assert "'waveform.bandwidth=log:-1:2:3'" in capsys.readouterr().err
+    show_warning(UserWarning("axis :smile: [x]"), UserWarning, "f.py", 1)
+    assert capsys.readouterr().err.strip() == "warning: axis :smile: [x]"

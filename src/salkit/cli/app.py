@@ -17,8 +17,8 @@ from ..errors import SalkitError
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False, rich_markup_mode=None,
                   help="salkit: synthetic aperture ladar simulation, imaging and metrics.")
-err = Console(stderr=True)
-out = Console()
+err = Console(stderr=True, emoji=False)  # a user's text as written: ":-1:" is not an emoji code here
+out = Console(emoji=False)
 
 
 def _plain_argument_help() -> None:
