@@ -51,3 +51,15 @@ def test_a_sweep_files_metrics_are_checked_against_the_table(tmp_path):
     (tmp_path / "t.yaml").write_text("sweep: 1\nscenario: base.yaml\nvary: {waveform.bandwidth: '1e9,2e9'}\n"
                                      "metrics: [irw_range_m, medium_pga_entropy]\n")
     assert read_sweep_file(tmp_path / "t.yaml").metrics == ("irw_range_m", "medium_pga_entropy")
+
+
+def test_a_sweep_files_missing_scenario_says_where_it_was_looked_for(tmp_path):
+    """A relative base scenario is read from the sweep file's folder: the error says so (it said only
+    "scenario = '<folder>/examples/x.yaml': file does not exist" for a path written from the
+    repository's root)."""
+    from salkit.studies.spec import resolve_request
+    (tmp_path / "s.yaml").write_text("sweep: 1\nscenario: examples/x.yaml\nvary: {waveform.bandwidth: '1e9,2e9'}\n")
+    with pytest.raises(ScenarioError) as e:
+        resolve_request(tmp_path / "s.yaml")
+    assert e.value.field == "s.yaml: scenario" and e.value.value == str(tmp_path / "examples" / "x.yaml")
+    assert f"read from the sweep file's folder, {tmp_path.resolve()}" in e.value.constraint

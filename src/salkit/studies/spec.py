@@ -266,13 +266,17 @@ def resolve_request(scenario, vary=(), sets=(), zipped: bool = False, realisatio
     Raises
     ------
     ScenarioError
-        When nothing varies, or a metric is not in the table of metrics (with the nearest name).
+        When nothing varies, a metric is not in the table of metrics (with the nearest name), or a
+        sweep file's base scenario does not exist.
     """
     for m in metrics:
         check_metric(m, "--metric")
     path = Path(scenario)
     if path.suffix.lower() in (".yaml", ".yml") and path.is_file() and is_sweep_file(path):
         sf = read_sweep_file(path)
+        if not sf.scenario.exists():  # say where a relative path was looked for
+            raise ScenarioError(f"{path.name}: scenario", str(sf.scenario), "file does not exist (a relative path is "
+                                f"read from the sweep file's folder, {path.parent.resolve()})")
         mine = {v.split("=", 1)[0].strip() for v in vary}
         sf = SweepFile(sf.scenario, tuple(v for v in sf.vary if v.split("=", 1)[0] not in mine) + tuple(vary),
                        sf.zipped or zipped, realisations or sf.realisations, tuple(metrics) or sf.metrics,
