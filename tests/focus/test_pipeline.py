@@ -233,3 +233,18 @@ def test_polar_format_is_judged_against_the_rectangle_it_keeps():
             0.886 * 2 * np.pi / img.attrs[f"support_{ax}_extent"], rel=2e-3)
     bp = measure(focus(raw, plane="ground"))  # the collection's support, wider: a finer response
     assert bp["irw_azimuth_theory_m"] < 0.98 * m["irw_azimuth_theory_m"]
+
+
+def test_a_former_named_where_the_processing_block_belongs_is_refused_naming_the_keyword(tmp_path):
+    """focus(raw, "bp") raised AttributeError ('str' object has no attribute 'algorithm'), and
+    focus("raw.nc") another: each is now refused naming the argument and what it must be."""
+    from salkit.errors import DataFileError, ScenarioError
+    sc = parse_scenario(SPOT)
+    raw = simulate(sc)
+    with pytest.raises(ScenarioError) as e:
+        focus(raw, "bp")
+    assert (e.value.field, e.value.value) == ("processing", "bp") and "algorithm='bp'" in e.value.constraint
+    with pytest.raises(ScenarioError, match="must be a Processing block"):
+        focus(raw, sc.platform)
+    with pytest.raises(DataFileError, match=r"raw = 'raw.nc': must be an xarray.Dataset.*salkit.io.open_dataset"):
+        focus("raw.nc")

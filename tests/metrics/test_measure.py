@@ -33,3 +33,14 @@ def test_without_the_truth_there_is_no_target_phase(image):
     bare = image.drop_vars([v for v in image.data_vars if v.startswith("target_")])
     m = measure(bare, reflectivity_phase=1.1)
     assert "image_phase_at_peak_rad" in m and "peak_phase_rad" not in m and "peak_phase_error_rad" not in m
+
+
+def test_what_is_not_an_image_is_refused_saying_what_it_is(image):
+    """measure(raw) raised KeyError "No variable named 'image'"; it now names the dataset's kind and
+    the step it missed."""
+    from salkit.errors import DataFileError
+    sc = parse_scenario(SPOT)
+    with pytest.raises(DataFileError, match=r"this is a dataset of salkit_kind 'raw' with signal.*focus it first"):
+        measure(simulate(sc))
+    with pytest.raises(DataFileError, match=r"needs a focused image.*this is an object of type ndarray"):
+        measure(image["image"].values)

@@ -127,3 +127,22 @@ def test_experiment_fields_without_the_union_tag():
     with pytest.raises(ScenarioError) as e:
         load_scenario(EXAMPLES / "spaceborne_geo.yaml", ["experiment.r1=1e9"])
     assert e.value.field == "experiment.r1" and "below r2" in e.value.constraint
+
+
+def test_what_is_not_a_scenario_is_refused_where_one_is_taken():
+    """salkit.simulate("x.yaml") raised AttributeError ('str' object has no attribute
+    'is_downlooking'), salkit.sweep the same with 'model_dump': each names the argument now, and
+    how to make a scenario of what was given."""
+    import salkit
+    from salkit.params import require_scenario
+    for call in (lambda x: salkit.simulate(x), lambda x: salkit.sweep(x, vary={"waveform.bandwidth": "1e9,2e9"}),
+                 lambda x: salkit.focus(salkit.simulate(parse_scenario(SPOT)), scenario=x)):
+        with pytest.raises(ScenarioError) as e:
+            call("examples/spotlight_points.yaml")
+        assert (e.value.field, e.value.value) == ("scenario", "examples/spotlight_points.yaml")
+        assert "salkit.load_scenario(path)" in e.value.constraint
+    with pytest.raises(ScenarioError, match="salkit.params.parse_scenario"):
+        require_scenario(dict(SPOT))
+    with pytest.raises(ScenarioError, match=r"scenario = None: must be a Scenario"):
+        require_scenario(None)
+    require_scenario(parse_scenario(SPOT))

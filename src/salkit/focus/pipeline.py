@@ -27,7 +27,7 @@ from ..io.reading import lazy_reads, open_dataset
 from ..io.writing import ImageFileWriter
 from ..metrics.pointtarget import support_ipr, window_ipr
 from ..params.models import Grid, Processing, Scenario
-from ..params.scenario import stored_scenario
+from ..params.scenario import require_scenario, stored_scenario
 from ..registry import FORMERS
 from ..resources import available_memory, parse_size, size_text, user_limit
 from ..signals.windows import Window
@@ -132,6 +132,12 @@ def run_memory_estimate(scenario: Scenario) -> tuple[float, str]:
                                          f"({8.0 * P * N / 2 ** 30:.3g} GiB of signal) onto {g.nx} x {g.ny} pixels")
 
 
+def _short_repr(value) -> str:
+    """``repr(value)`` cut to 80 characters, for an error message."""
+    text = repr(value)
+    return text if len(text) <= 80 else text[:77] + "..."
+
+
 def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=None, algorithm: str | None = None,
           grid: Grid | None = None, window_name: str | None = None, plane: str | None = None,
           progress: Optional[Callable[[int, int], None]] = None, accuracy: str | None = None,
@@ -202,6 +208,15 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=
     >>> image = focus(raw, algorithm="pfa")  # doctest: +SKIP
     >>> image = focus(raw, algorithm="ffbp", memory_limit="512MiB")  # doctest: +SKIP
     """
+    if not isinstance(raw, xr.Dataset):  # a path, or an array, where the dataset belongs
+        raise DataFileError(f"focus: raw = {_short_repr(raw)}: must be an xarray.Dataset (salkit.simulate's output, "
+                            "or a file opened with salkit.io.open_dataset)")
+    if processing is not None and not isinstance(processing, Processing):
+        hint = (f"; to choose a former by name, algorithm={processing!r}" if isinstance(processing, str) else "")
+        raise ScenarioError("processing", processing if len(repr(processing)) <= 80 else _short_repr(processing),
+                            f"must be a Processing block (a scenario's .processing) or None{hint}")
+    if scenario is not None:
+        require_scenario(scenario)
     proc = PROCESSORS.get(str(raw.attrs.get("salkit_kind", "raw")), focus_sal)
     return proc(raw, processing, scenario=scenario, algorithm=algorithm, grid=grid, window_name=window_name,
                 plane=plane, progress=progress, accuracy=accuracy, memory_limit=memory_limit, client=client,

@@ -10,6 +10,7 @@ from .image import contrast_from_moments, entropy_from_moments, scan
 from .pointtarget import analyse_point
 from ..signals.phase import wrap
 from ..constants import SPEED_OF_LIGHT
+from ..errors import DataFileError
 
 
 def image_phase_model(image: xr.Dataset):
@@ -49,6 +50,20 @@ def image_phase_model(image: xr.Dataset):
     return fn
 
 
+#: Dataset kinds that an image is formed from (``salkit_kind``).
+_UNFOCUSED = ("raw", "raw_downlooking", "phase_history", "range_profiles")
+
+
+def _described(obj) -> str:
+    """What ``obj`` is, for the error of :func:`measure` given something other than an image."""
+    if not isinstance(obj, xr.Dataset):
+        return f"an object of type {type(obj).__name__}"
+    kind = obj.attrs.get("salkit_kind")
+    names = ", ".join(map(str, obj.data_vars)) or "no variables"
+    text = f"a dataset of salkit_kind {kind!r} with {names}" if kind else f"a dataset with {names}"
+    return text + ("; focus it first (salkit.focus)" if kind in _UNFOCUSED else "")
+
+
 def measure(image: xr.Dataset, truth: np.ndarray | None = None, reflectivity_phase=None,
             details: bool = False, moments: dict | None = None) -> dict:
     """Measure a focused image against theory.
@@ -80,6 +95,9 @@ def measure(image: xr.Dataset, truth: np.ndarray | None = None, reflectivity_pha
         upsampled peak, and, given the truth, ``peak_phase_rad``, the target's phase (the image's
         deterministic phase restored at the true position) and ``peak_phase_error_rad``.
     """
+    if not isinstance(image, xr.Dataset) or "image" not in image or not {"azimuth", "range"} <= set(image.coords):
+        raise DataFileError("measure: needs a focused image (an 'image' variable on azimuth and range coordinates in m, "
+                            f"as salkit.focus returns); this is {_described(image)}")
     img = np.asarray(image["image"].values)
     az = np.asarray(image["azimuth"].values, dtype=np.float64)
     rg = np.asarray(image["range"].values, dtype=np.float64)

@@ -194,6 +194,42 @@ def _format_validation(err: ValidationError) -> ScenarioError:
     return ScenarioError(first.field, first.value, msg)
 
 
+def require_scenario(value, name: str = "scenario") -> None:
+    """Refuse what is not a parsed scenario where a function takes one: a path, a mapping, None.
+
+    Parameters
+    ----------
+    value : object
+        What the caller gave.
+    name : str
+        The argument's name, for the message.
+
+    Raises
+    ------
+    ScenarioError
+        Naming the argument, the value and what it must be (a path: read it with
+        :func:`load_scenario`; a mapping: :func:`parse_scenario`).
+
+    Examples
+    --------
+    >>> require_scenario("examples/spotlight_points.yaml")
+    Traceback (most recent call last):
+    ...
+    salkit.errors.ScenarioError: scenario = 'examples/spotlight_points.yaml': must be a Scenario or DownlookingScenario; read a file with salkit.load_scenario(path)
+    """
+    if isinstance(value, (Scenario, DownlookingScenario)):
+        return
+    if isinstance(value, (str, Path)):
+        hint = "; read a file with salkit.load_scenario(path)"
+    elif isinstance(value, Mapping):
+        hint = "; parse a mapping with salkit.params.parse_scenario(data)"
+    else:
+        hint = ""
+    shown = value if isinstance(value, (str, Path, type(None))) else f"<{type(value).__name__}>"
+    raise ScenarioError(name, str(shown) if isinstance(shown, Path) else shown,
+                        f"must be a Scenario or DownlookingScenario{hint}")
+
+
 def parse_scenario(data: Mapping[str, Any]) -> Scenario | DownlookingScenario:
     """Validate a scenario mapping into the model its ``experiment.kind`` names.
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from ..params.scenario import require_scenario
 from .downlooking import simulate_downlooking
 from .echoes import ProgressFn
 from .sal import simulate_sal
@@ -36,6 +37,7 @@ def simulate(scenario, progress: ProgressFn = None, noise: bool | None = None,
     >>> raw = simulate(load_scenario("examples/spotlight_points.yaml",
     ...                              ["platform.aperture_length=0.5"]))  # doctest: +SKIP
     """
+    require_scenario(scenario)
     kind = "downlooking" if scenario.is_downlooking else "sal"
     return SIMULATORS[kind](scenario, progress=progress, noise=noise, rng=rng)
 

@@ -16,7 +16,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import SalkitError
-from ..params.scenario import load_scenario, parse_scenario
+from ..params.scenario import load_scenario, parse_scenario, require_scenario
 from ..studies.engine import execute, measured_metrics, plan_of, select_metrics, summary, table
 from ..studies.plan import check_points, make_plan, require_valid
 from ..studies.spec import parse_vary
@@ -98,6 +98,7 @@ def sweep(scenario, vary, *, zip: bool = False, realisations: int = 1, metrics=(
     ScenarioError
         A bad axis, a misspelt field, or every point invalid.
     """
+    require_scenario(scenario)
     plan = plan_of(scenario, vary, zip, realisations, metrics)
     bad = check_points(plan, preflight)
     return execute(plan, bad, run_point, client=client, checkpoint=checkpoint, progress=progress)
