@@ -44,3 +44,12 @@ def test_what_is_not_an_image_is_refused_saying_what_it_is(image):
         measure(simulate(sc))
     with pytest.raises(DataFileError, match=r"needs a focused image.*this is an object of type ndarray"):
         measure(image["image"].values)
+
+
+def test_the_numbers_are_plain_python_numbers(image):
+    """Every metric is a Python float, int or bool (some were numpy scalars, printed as
+    np.float64(...) beside the others); the details' cuts stay arrays."""
+    m = measure(image, reflectivity_phase=1.1)
+    assert all(type(v) in (float, int, bool) for v in m.values()), {k: type(v) for k, v in m.items()}
+    d = measure(image, details=True)
+    assert any(isinstance(v, np.ndarray) for k, v in d.items() if k.startswith("_"))

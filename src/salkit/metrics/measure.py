@@ -145,4 +145,5 @@ def measure(image: xr.Dataset, truth: np.ndarray | None = None, reflectivity_pha
     mom = moments if moments is not None else own
     out["entropy"] = entropy_from_moments(mom)
     out["contrast"] = contrast_from_moments(mom)
-    return out
+    # plain Python numbers (numpy's scalars print as np.float64(...)); the details' arrays kept
+    return {k: v.item() if isinstance(v, np.generic) else v for k, v in out.items()}
