@@ -248,3 +248,21 @@ def test_a_former_named_where_the_processing_block_belongs_is_refused_naming_the
         focus(raw, sc.platform)
     with pytest.raises(DataFileError, match=r"raw = 'raw.nc': must be an xarray.Dataset.*salkit.io.open_dataset"):
         focus("raw.nc")
+
+
+def test_a_grid_may_be_given_as_a_mapping_of_its_fields():
+    """focus(raw, grid={...}) raised AttributeError ('dict' object has no attribute 'nx'): a mapping is
+    validated into a Grid (the same image), a bad one refused naming grid.<field>."""
+    from salkit.errors import ScenarioError
+    from salkit.params import Grid
+    sc = parse_scenario(SPOT)
+    raw = simulate(sc)
+    fields = {"nx": 48, "ny": 40, "dx": 0.012, "dy": 0.012}
+    a = focus(raw, sc.processing, grid=fields)
+    b = focus(raw, sc.processing, grid=Grid(**fields))
+    assert a["image"].shape == (48, 40) and np.array_equal(a["image"].values, b["image"].values)
+    with pytest.raises(ScenarioError) as e:
+        focus(raw, grid={**fields, "nx": -3})
+    assert (e.value.field, e.value.value) == ("grid.nx", -3)
+    with pytest.raises(ScenarioError, match=r"grid = .*must be a Grid"):
+        focus(raw, grid=(48, 40))

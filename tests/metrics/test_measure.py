@@ -53,3 +53,13 @@ def test_the_numbers_are_plain_python_numbers(image):
     assert all(type(v) in (float, int, bool) for v in m.values()), {k: type(v) for k, v in m.items()}
     d = measure(image, details=True)
     assert any(isinstance(v, np.ndarray) for k, v in d.items() if k.startswith("_"))
+
+
+def test_the_truth_is_pairs_and_one_pair_is_one_target(image):
+    """truth=[1, 2, 3] raised TypeError from inside; a (T, 2) array or one (azimuth, range) pair is taken."""
+    from salkit.errors import ScenarioError
+    one = measure(image, truth=(0.0, 0.0))
+    assert one == measure(image, truth=np.zeros((1, 2))) and one["target_index"] == 0
+    for bad in ([1, 2, 3], np.zeros((2, 3)), np.zeros((4, 2, 1))):
+        with pytest.raises(ScenarioError, match=r"truth = .*must be \(azimuth, range\) pairs in m"):
+            measure(image, truth=bad)

@@ -146,3 +146,10 @@ def test_what_is_not_a_scenario_is_refused_where_one_is_taken():
     with pytest.raises(ScenarioError, match=r"scenario = None: must be a Scenario"):
         require_scenario(None)
     require_scenario(parse_scenario(SPOT))
+
+
+def test_one_override_as_a_string():
+    """load_scenario(path, "waveform.bandwidth=5e9") was read character by character ("--set = 'w'")."""
+    one = load_scenario(EXAMPLES / "spotlight_points.yaml", "waveform.bandwidth=5e9")
+    assert one == load_scenario(EXAMPLES / "spotlight_points.yaml", ["waveform.bandwidth=5e9"])
+    assert one.waveform.bandwidth == 5e9

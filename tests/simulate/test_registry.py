@@ -30,3 +30,15 @@ def test_seeded_runs_repeat_exactly():
     assert np.array_equal(a, b)
     c = simulate(sc.model_copy(update={"seed": 99}))["signal"].values
     assert not np.allclose(a, c)
+
+
+def test_noise_must_be_a_switch(monkeypatch):
+    """noise="no" was taken as true (a non-empty string); only True, False or None pass."""
+    import pytest
+    from salkit.errors import ScenarioError
+    monkeypatch.setitem(SIMULATORS, "sal", lambda sc, **kw: kw["noise"])
+    sc = parse_scenario(SPOT)
+    assert [simulate(sc, noise=v) for v in (True, False, None, np.True_)] == [True, False, None, np.True_]
+    for bad in ("no", 1, 0.0):
+        with pytest.raises(ScenarioError, match=r"noise = .*: must be True, False or None"):
+            simulate(sc, noise=bad)

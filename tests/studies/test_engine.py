@@ -126,3 +126,11 @@ def test_a_run_asked_for_a_figure_it_does_not_measure_says_so():
     plan = plan_of(sc, {"waveform.bandwidth": "7.5e9"}, metrics=["irw_range_m", "fringe_period_m"])
     ds = execute(plan, {}, run_point)
     assert "fringe_period_m: this run measures no such figure" in str(ds["unmeasured"].values[0])
+
+
+def test_one_axis_as_a_string_is_one_axis_not_its_characters():
+    """sweep(sc, vary="waveform.bandwidth=5e9,6e9") was read character by character ("--vary = 'w'")."""
+    sc = parse_scenario(SPOT)
+    one = plan_of(sc, "waveform.bandwidth=5e9,6e9")
+    assert one.shape == (2,) and one == plan_of(sc, ["waveform.bandwidth=5e9,6e9"]) \
+        == plan_of(sc, {"waveform.bandwidth": "5e9,6e9"})

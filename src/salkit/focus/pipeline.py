@@ -13,13 +13,14 @@ import importlib
 import logging
 import pkgutil
 import sys
-from typing import Callable, Optional
+from typing import Callable, Mapping, Optional
 
 import numpy as np
 import xarray as xr
+from pydantic import ValidationError
 
 from ..choices import ACCURACY, PLANES, check_choice
-from ..errors import DataFileError, ResourceError, ScenarioError
+from ..errors import NOT_GIVEN, DataFileError, ResourceError, ScenarioError
 from ..geometry.collection import build_collection, grid_axes, plane_from, truth_positions
 from ..geometry.geodesy import image_geolocation
 from ..io.datasets import make_image_dataset
@@ -138,6 +139,22 @@ def _short_repr(value) -> str:
     return text if len(text) <= 80 else text[:77] + "..."
 
 
+def _as_grid(grid) -> Grid | None:
+    """``focus``'s grid: a Grid, None, or a mapping of a Grid's fields (validated into one)."""
+    if grid is None or isinstance(grid, Grid):
+        return grid
+    if not isinstance(grid, Mapping):
+        raise ScenarioError("grid", _short_repr(grid), "must be a Grid (salkit.params.Grid), a mapping of its fields "
+                            "(nx, ny, dx, dy, ...) or None")
+    try:
+        return Grid.model_validate(dict(grid))
+    except ValidationError as err:
+        e = err.errors()[0]
+        field = ".".join(["grid", *map(str, e["loc"])])
+        value = e.get("input") if e["type"] != "missing" else NOT_GIVEN
+        raise ScenarioError(field, value, e["msg"].removeprefix("Value error, ")) from None
+
+
 def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=None, algorithm: str | None = None,
           grid: Grid | None = None, window_name: str | None = None, plane: str | None = None,
           progress: Optional[Callable[[int, int], None]] = None, accuracy: str | None = None,
@@ -157,8 +174,8 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=
         stored in ``raw.attrs``; used for the processing defaults and the true target positions).
     algorithm : str, optional
         A declared former (:data:`salkit.registry.FORMERS`); overrides ``processing.algorithm``.
-    grid : Grid, optional
-        Overrides ``processing.grid``.
+    grid : Grid or mapping, optional
+        Overrides ``processing.grid`` (a mapping of a Grid's fields is validated into one).
     window_name : {"none", "hamming", "taylor"}, optional
         Overrides ``processing.window``.
     plane : {"slant", "ground"}, optional
@@ -217,6 +234,7 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=
                             f"must be a Processing block (a scenario's .processing) or None{hint}")
     if scenario is not None:
         require_scenario(scenario)
+    grid = _as_grid(grid)
     proc = PROCESSORS.get(str(raw.attrs.get("salkit_kind", "raw")), focus_sal)
     return proc(raw, processing, scenario=scenario, algorithm=algorithm, grid=grid, window_name=window_name,
                 plane=plane, progress=progress, accuracy=accuracy, memory_limit=memory_limit, client=client,

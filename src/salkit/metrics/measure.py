@@ -10,7 +10,7 @@ from .image import contrast_from_moments, entropy_from_moments, scan
 from .pointtarget import analyse_point
 from ..signals.phase import wrap
 from ..constants import SPEED_OF_LIGHT
-from ..errors import DataFileError
+from ..errors import DataFileError, ScenarioError
 
 
 def image_phase_model(image: xr.Dataset):
@@ -73,8 +73,9 @@ def measure(image: xr.Dataset, truth: np.ndarray | None = None, reflectivity_pha
     image : xarray.Dataset
         A salkit image (``image`` variable, ``azimuth``/``range`` coordinates in m, resolution
         and theory attributes as written by :func:`salkit.focus`).
-    truth : ndarray (T, 2), optional
-        Expected target positions (azimuth, range), m; default the file's ``target_*`` variables.
+    truth : array_like (T, 2) or (2,), optional
+        Expected target positions (azimuth, range), m (one pair: one target); default the file's
+        ``target_*`` variables.
     reflectivity_phase : float or sequence of float, optional
         Phase (rad) of the brightest target's reflectivity; the processor should return it at the
         peak. A sequence gives one phase per truth target, and the phase of the target nearest the
@@ -108,6 +109,15 @@ def measure(image: xr.Dataset, truth: np.ndarray | None = None, reflectivity_pha
     peak, own = scan(img)  # the brightest pixel and the intensity moments, in one pass
     m = analyse_point(img, az, rg, res_az, res_rg, peak=peak, phase_fn=phase_fn)
     out = {k: v for k, v in m.items() if details or not k.startswith("_")}
+    if truth is not None:  # (T, 2) pairs; one pair alone is one target
+        arr = np.asarray(truth, dtype=np.float64)
+        if arr.shape == (2,):
+            arr = arr[None]
+        if arr.ndim != 2 or arr.shape[1] != 2:
+            shown = truth if not isinstance(truth, np.ndarray) and arr.size <= 8 else f"<array of shape {arr.shape}>"
+            raise ScenarioError("truth", shown,
+                                "must be (azimuth, range) pairs in m, an array of shape (T, 2)")
+        truth = arr
     if truth is None and "target_azimuth" in image:
         truth = np.stack([image["target_azimuth"].values, image["target_range"].values], axis=1)
     if truth is not None and len(truth):

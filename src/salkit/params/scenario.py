@@ -382,8 +382,8 @@ def load_scenario(path: str | Path, overrides: Iterable[str] = ()) -> Scenario |
     ----------
     path : str or Path
         YAML scenario file.
-    overrides : iterable of str
-        ``key.path=value`` strings, applied before validation.
+    overrides : iterable of str, or str
+        ``key.path=value`` strings, applied before validation (one string: one override).
 
     Returns
     -------
@@ -393,7 +393,7 @@ def load_scenario(path: str | Path, overrides: Iterable[str] = ()) -> Scenario |
     --------
     >>> sc = load_scenario("examples/spotlight_points.yaml", ["waveform.bandwidth=2e9"])  # doctest: +SKIP
     """
-    data = apply_overrides(read_yaml(path), overrides)
+    data = apply_overrides(read_yaml(path), [overrides] if isinstance(overrides, str) else overrides)
     return parse_scenario(data)
 
 

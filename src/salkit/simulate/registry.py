@@ -4,6 +4,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from ..errors import ScenarioError
 from ..params.scenario import require_scenario
 from .downlooking import simulate_downlooking
 from .echoes import ProgressFn
@@ -38,6 +39,8 @@ def simulate(scenario, progress: ProgressFn = None, noise: bool | None = None,
     ...                              ["platform.aperture_length=0.5"]))  # doctest: +SKIP
     """
     require_scenario(scenario)
+    if noise is not None and not isinstance(noise, (bool, np.bool_)):  # "no" would be true
+        raise ScenarioError("noise", noise, "must be True, False or None (the scenario's receiver.noise.enabled)")
     kind = "downlooking" if scenario.is_downlooking else "sal"
     return SIMULATORS[kind](scenario, progress=progress, noise=noise, rng=rng)
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 import json
 import time
 from pathlib import Path
-from typing import Callable, Optional
+from typing import Callable, Mapping, Optional
 
 import numpy as np
 import xarray as xr
@@ -114,7 +114,9 @@ def plan_of(scenario, vary, zip=False, realisations=1, metrics=()) -> SweepPlan:
     -------
     SweepPlan
     """
-    if isinstance(vary, dict):
+    if isinstance(vary, (str, Axis)):  # one axis, not its characters
+        vary = [vary]
+    if isinstance(vary, Mapping):
         axes = [parse_vary(f"{k}={v}") if isinstance(v, str) else
                 parse_vary(f"{k}=" + ",".join(json.dumps(x) for x in v)) for k, v in vary.items()]
     else:

@@ -71,9 +71,10 @@ def sweep(scenario, vary, *, zip: bool = False, realisations: int = 1, metrics=(
     ----------
     scenario : Scenario or DownlookingScenario
         The base scenario.
-    vary : dict or sequence
+    vary : mapping, sequence or str
         Field -> SPEC string (``"lin:1e9:7.5e9:7"``, ``"log:1e-15:1e-13:5"``, ``"bp,pfa"``) or a
-        sequence of values; or a sequence of :class:`~salkit.studies.spec.Axis`.
+        sequence of values; or a sequence of ``"FIELD=SPEC"`` strings or
+        :class:`~salkit.studies.spec.Axis`; one such string alone is one axis.
     zip : bool
         Pair the axes' values instead of spanning the full grid.
     realisations : int
