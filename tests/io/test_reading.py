@@ -51,3 +51,21 @@ def test_wrong_kind_and_missing_variable(tmp_path, files):
         read_raw(p)
 
 
+
+
+@pytest.mark.parametrize("name,value,words", [
+    ("chirp_rate", "abc", "chirp_rate = 'abc': must be a finite number non-zero"),
+    ("chirp_rate", 0.0, "chirp_rate = 0.0: must be a finite number non-zero"),
+    ("wavelength", -1.55e-6, "wavelength = -1.55e-06: must be a finite number > 0"),
+    ("adc_rate", float("nan"), "adc_rate = nan: must be a finite number > 0"),
+    ("real_aperture", -0.1, "real_aperture = -0.1: must be a finite number >= 0"),
+])
+def test_a_raw_files_numbers_are_checked(tmp_path, files, name, value, words):
+    """A raw file's numeric attribute that is text, zero, negative or NaN is refused naming it (a
+    text chirp rate was an internal error: "could not convert string to float")."""
+    rp, ip, raw, img = files
+    bad = raw.copy()
+    bad.attrs[name] = value
+    p = write_dataset(bad, tmp_path / "bad.nc")
+    with pytest.raises(DataFileError, match=f"attribute {words}".replace("(", r"\(")):
+        read_raw(p)

@@ -4,6 +4,7 @@ checksums) with errors that name the file and the variable, read a block at a ti
 """
 from __future__ import annotations
 
+import math
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -223,6 +224,33 @@ def _finite(ds: xr.Dataset, p, names):
                                 f"(NaN or inf), first at index {tuple(int(i) for i in idx)}")
 
 
+#: A raw file's numeric attributes and what each must be, where present: (name, test, constraint).
+#: The first four are required (:func:`read_raw`).
+RAW_NUMBERS = (("wavelength", lambda v: v > 0, "> 0 (m)"),
+               ("chirp_rate", lambda v: v != 0, "non-zero (Hz/s; its sign is the chirp's direction)"),
+               ("adc_rate", lambda v: v > 0, "> 0 (Hz)"),
+               ("prf", lambda v: v > 0, "> 0 (Hz)"),
+               ("bandwidth", lambda v: v > 0, "> 0 (Hz)"),
+               ("pulse_width", lambda v: v > 0, "> 0 (s)"),
+               ("real_aperture", lambda v: v >= 0, ">= 0 (m)"),
+               ("reference_delay", lambda v: True, "(s)"))
+
+
+def _numeric_attrs(ds: xr.Dataset, p) -> None:
+    """Refuse a raw file whose numeric attributes are not finite numbers within their bounds
+    (:data:`RAW_NUMBERS`), naming the attribute, the value and the constraint."""
+    for name, ok, constraint in RAW_NUMBERS:
+        if name not in ds.attrs:
+            continue
+        raw = ds.attrs[name]
+        try:
+            v = float(np.asarray(raw).item())
+        except (TypeError, ValueError):
+            raise DataFileError(f"{p}: attribute {name} = {raw!r}: must be a finite number {constraint}") from None
+        if not (math.isfinite(v) and ok(v)):
+            raise DataFileError(f"{p}: attribute {name} = {v!r}: must be a finite number {constraint}")
+
+
 def read_raw(path: str | Path, lazy: bool = False) -> xr.Dataset:
     """Read and validate a raw phase-history file (kinds ``raw`` or ``phase_history``).
 
@@ -250,6 +278,7 @@ def read_raw(path: str | Path, lazy: bool = False) -> xr.Dataset:
         for a in ("wavelength", "chirp_rate", "adc_rate", "prf"):
             if a not in ds.attrs:
                 raise DataFileError(f"{path}: raw file lacks the attribute '{a}'")
+        _numeric_attrs(ds, path)
     else:
         _require(ds, path, ["signal", "position", "reference_range", "frequency"], "phase_history")
         ds = normalise_phase_history(ds, str(path))
