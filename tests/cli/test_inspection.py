@@ -68,6 +68,25 @@ def test_info_prints_a_human_summary_and_verifies_every_chunk(tmp_path):
     assert r.returncode == 2 and str(bad) in r.stderr and "'image'" in r.stderr and "corrupt" in r.stderr
 
 
+def test_info_on_an_outside_file_claims_no_checksum_it_does_not_hold(tmp_path):
+    """An image written by plain xarray (contiguous, no fletcher32, no salkit attributes): `info`
+    raised TypeError ('NoneType' object is not iterable) on its chunk sizes, and for other such files
+    said "checksums: verified" and "salkit unknown file (format ?, written by salkit ?)". It now says
+    the file is not salkit's and that it holds no checksums; `--json` says checksums_verified false
+    and names the variables without one."""
+    import numpy as np
+    import xarray as xr
+    p = tmp_path / "outside.nc"
+    xr.Dataset({"image": (("azimuth", "range"), np.ones((16, 8), np.complex64))},
+               coords={"azimuth": np.arange(16) * 0.01, "range": np.arange(8) * 0.01}).to_netcdf(p)
+    r = salkit("info", p)
+    assert r.returncode == 0, r.stderr
+    assert "file not written by salkit" in r.stdout and "format ?" not in r.stdout
+    assert "checksums: none in this file" in r.stdout and "checksums: verified" not in r.stdout
+    d = json.loads(salkit("info", p, "--json").stdout)
+    assert d["checksums_verified"] is False and d["checksums_missing"] == ["image", "azimuth", "range"]
+
+
 def test_examples_copy_holds_everything_the_readme_runs(tmp_path):
     """`salkit examples --copy DIR` copies the sweep files too (they were left out), beside the
     scenarios they name, so `salkit sweep DIR/sweeps/X.yaml` finds its scenario."""

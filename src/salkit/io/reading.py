@@ -338,7 +338,7 @@ def describe(path: str | Path) -> dict:
             if k == "scenario":
                 continue
             info[k] = v.tolist() if isinstance(v, np.ndarray) else v
-        if "image" in ds and "chunksizes" in ds["image"].encoding:
+        if "image" in ds and ds["image"].encoding.get("chunksizes"):  # None: stored contiguous
             info["image_chunks"] = list(ds["image"].encoding["chunksizes"])
     finally:
         ds.close()
