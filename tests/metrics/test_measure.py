@@ -60,6 +60,6 @@ def test_the_truth_is_pairs_and_one_pair_is_one_target(image):
     from salkit.errors import ScenarioError
     one = measure(image, truth=(0.0, 0.0))
     assert one == measure(image, truth=np.zeros((1, 2))) and one["target_index"] == 0
-    for bad in ([1, 2, 3], np.zeros((2, 3)), np.zeros((4, 2, 1))):
+    for bad in ([1, 2, 3], np.zeros((2, 3)), np.zeros((4, 2, 1)), "0,0", [[0, 0], [1]]):
         with pytest.raises(ScenarioError, match=r"truth = .*must be \(azimuth, range\) pairs in m"):
             measure(image, truth=bad)

@@ -99,6 +99,18 @@ def measure(image: xr.Dataset, truth: np.ndarray | None = None, reflectivity_pha
     if not isinstance(image, xr.Dataset) or "image" not in image or not {"azimuth", "range"} <= set(image.coords):
         raise DataFileError("measure: needs a focused image (an 'image' variable on azimuth and range coordinates in m, "
                             f"as salkit.focus returns); this is {_described(image)}")
+    if truth is not None:  # (T, 2) pairs; one pair alone is one target
+        try:
+            arr = np.asarray(truth, dtype=np.float64)
+        except (TypeError, ValueError):  # text, ragged lists
+            arr = np.empty((0,))
+        if arr.shape == (2,):
+            arr = arr[None]
+        if arr.ndim != 2 or arr.shape[1] != 2:
+            shown = truth if not isinstance(truth, np.ndarray) and len(repr(truth)) <= 80 else \
+                (f"<{type(truth).__name__} of shape {arr.shape}>" if arr.size else f"<{type(truth).__name__}>")
+            raise ScenarioError("truth", shown, "must be (azimuth, range) pairs in m, an array of shape (T, 2)")
+        truth = arr
     img = np.asarray(image["image"].values)
     az = np.asarray(image["azimuth"].values, dtype=np.float64)
     rg = np.asarray(image["range"].values, dtype=np.float64)
@@ -109,15 +121,6 @@ def measure(image: xr.Dataset, truth: np.ndarray | None = None, reflectivity_pha
     peak, own = scan(img)  # the brightest pixel and the intensity moments, in one pass
     m = analyse_point(img, az, rg, res_az, res_rg, peak=peak, phase_fn=phase_fn)
     out = {k: v for k, v in m.items() if details or not k.startswith("_")}
-    if truth is not None:  # (T, 2) pairs; one pair alone is one target
-        arr = np.asarray(truth, dtype=np.float64)
-        if arr.shape == (2,):
-            arr = arr[None]
-        if arr.ndim != 2 or arr.shape[1] != 2:
-            shown = truth if not isinstance(truth, np.ndarray) and arr.size <= 8 else f"<array of shape {arr.shape}>"
-            raise ScenarioError("truth", shown,
-                                "must be (azimuth, range) pairs in m, an array of shape (T, 2)")
-        truth = arr
     if truth is None and "target_azimuth" in image:
         truth = np.stack([image["target_azimuth"].values, image["target_range"].values], axis=1)
     if truth is not None and len(truth):
