@@ -266,3 +266,14 @@ def test_a_grid_may_be_given_as_a_mapping_of_its_fields():
     assert (e.value.field, e.value.value) == ("grid.nx", -3)
     with pytest.raises(ScenarioError, match=r"grid = .*must be a Grid"):
         focus(raw, grid=(48, 40))
+
+
+def test_a_bad_memory_limit_is_named_as_the_argument():
+    """The library named its memory_limit "--memory-limit" (the command line's option), and a list
+    raised TypeError from inside."""
+    from salkit.errors import ScenarioError
+    raw = simulate(parse_scenario(SPOT))
+    for bad, words in (("lots", "must be a size such as 8GiB"), (-5, "must be positive"), ([1], "must be bytes")):
+        with pytest.raises(ScenarioError) as e:
+            focus(raw, memory_limit=bad)
+        assert e.value.field == "memory_limit" and words in e.value.constraint

@@ -588,13 +588,16 @@ def memory_budget(limit: float | str | None = None, held: float = 0.0) -> float:
     Raises
     ------
     ScenarioError
-        An unreadable or non-positive size (``--memory-limit``).
+        An unreadable or non-positive size (``memory_limit``).
     """
     cands = [float(available_memory())]
     if limit is not None:
-        b = float(parse_size(limit, "--memory-limit")) if isinstance(limit, str) else float(limit)
+        try:  # the library's argument (the command line checks its --memory-limit before)
+            b = float(parse_size(limit, "memory_limit")) if isinstance(limit, str) else float(limit)
+        except (TypeError, ValueError):
+            raise ScenarioError("memory_limit", limit, "must be bytes or a size such as 8GiB, 512MB or 2e9") from None
         if not b > 0:
-            raise ScenarioError("--memory-limit", limit, "must be positive")
+            raise ScenarioError("memory_limit", limit, "must be positive")
         cands.append(b - held)
     cap = user_limit()
     if cap is not None:
