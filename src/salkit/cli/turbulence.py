@@ -2,6 +2,8 @@
 optics against scintillation theory)."""
 from __future__ import annotations
 
+import math
+import warnings
 from pathlib import Path
 from typing import Optional
 
@@ -26,6 +28,11 @@ def screen(n: int = typer.Option(..., "--n", metavar="SAMPLES", help="screen siz
     _check_out_file(out, overwrite)
     from ..io.screens import write_screens
     phi = phase_screens(n, dx, r0, count=count, seed=seed, outer_scale=outer_scale, inner_scale=inner_scale)
+    step = math.sqrt(6.88 * (dx / r0) ** (5.0 / 3.0))  # rms phase difference of neighbouring samples, rad
+    if step > math.pi:
+        warnings.warn(f"--dx = {dx:g} m against --r0 = {r0:g} m: neighbouring samples differ by {step:.3g} rad rms "
+                      "(Kolmogorov, sqrt(6.88 (dx/r0)^(5/3))); beyond pi a field sampled at this spacing through the "
+                      f"screen is aliased: sample at dx below {1.24 * r0:.3g} m (1.24 r0)", UserWarning, stacklevel=2)
     from ..plot import screen_image
     nc = write_screens(phi, dx, out, r0=r0, seed=seed, outer_scale=outer_scale, inner_scale=inner_scale)
     png = screen_image(phi[0], dx, out.with_suffix(".png"), title=f"phase screen 0 (r0 = {r0} m)")
