@@ -102,3 +102,9 @@ def test_interrupted_sweep_resumes(tmp_path, scen, monkeypatch):
     assert len(calls) == 1  # two runs were in the checkpoint
     a, b = open_dataset(whole / "sweep.nc"), open_dataset(out / "sweep.nc")
     np.testing.assert_array_equal(a["peak_amplitude"].values, b["peak_amplitude"].values)
+    # --resume into the completed folder: nothing to resume, said so (it said "holds 18 entries;
+    # choose a new or empty folder"), the folder untouched
+    before = sorted(p.name for p in out.iterdir())
+    r = salkit(*args, "--out", out, "--resume")
+    assert r.returncode == 2 and "the sweep there is complete (sweep.nc): nothing to resume" in r.stderr
+    assert sorted(p.name for p in out.iterdir()) == before and len(calls) == 1

@@ -40,6 +40,9 @@ def sweep(scenario: Path = typer.Argument(..., metavar="SCENARIO.yaml", help="ba
     for i, why in invalid.items():
         out.print(f"[yellow]invalid point {i}[/] ({', '.join(plan.overrides(i))}): {why}", highlight=False,
                   soft_wrap=True)
+    if resume and not overwrite and (Path(out_dir) / "sweep.nc").is_file():
+        raise ScenarioError("--resume", str(out_dir), "the sweep there is complete (sweep.nc): nothing to resume; "
+                            "choose a new folder, or --overwrite to run it again")
     folder = RunFolder(out_dir, overwrite=overwrite, keep_on_failure=(CHECKPOINT, IMAGES))
     folder._check_target()
     if not resume:  # an old interrupted sweep: only --resume continues it
