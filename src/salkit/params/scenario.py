@@ -32,7 +32,14 @@ def _model_in(annotation):
     return None
 
 
-def fields_at(parts) -> list[str]:
+def _models_in(annotation) -> list:
+    """Every pydantic model an annotation holds (the members of a union), in order."""
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return [annotation]
+    return [m for arg in typing.get_args(annotation) for m in _models_in(arg)]
+
+
+def fields_at(parts, root=Scenario) -> list[str]:
     """The field names of the section at a location (``["waveform"]``: the waveform's fields), as a
     scenario file spells them; the top level for an empty location. Empty where the location is not
     a section.
@@ -40,7 +47,10 @@ def fields_at(parts) -> list[str]:
     Parameters
     ----------
     parts : sequence of str or int
-        The section's keys (list indices are skipped).
+        The section's keys (list indices are skipped; an experiment kind's tag, as pydantic puts it
+        in an error's location, picks that experiment's fields).
+    root : pydantic model
+        The scenario's model (:class:`~salkit.params.DownlookingScenario` for a down-looking one).
 
     Returns
     -------
@@ -51,17 +61,23 @@ def fields_at(parts) -> list[str]:
     >>> "bandwidth" in fields_at(["waveform"])
     True
     """
-    model = Scenario
+    model = root
     if parts and parts[0] == "experiment" and len(parts) > 1:
         kinds = {"downlooking": DownlookingScenario}
-        model = kinds.get(str(parts[1]), Scenario)
+        model = kinds.get(str(parts[1]), root)
+    members: list = []
     for p in parts:
-        if isinstance(p, int) or str(p).isdigit() or str(p) in _EXPERIMENT_TAGS:
+        if str(p) in _EXPERIMENT_TAGS:  # a union's tag (pydantic's location): the member of that kind
+            model = next((m for m in members if m.model_fields.get("kind") is not None
+                          and m.model_fields["kind"].default == str(p)), model)
+            continue
+        if isinstance(p, int) or str(p).isdigit():
             continue
         f = model.model_fields.get(str(p))
         m = _model_in(f.annotation) if f is not None else None
         if m is None:
             return []
+        members = _models_in(f.annotation)
         model = m
     names = set(model.model_fields)
     if model is Scenario:
@@ -122,8 +138,8 @@ def unknown_key_error(loc, value=None, valid=None, kind: str = "sal") -> Scenari
     parts = [p for p in loc if str(p) not in _EXPERIMENT_TAGS]
     key, section = str(parts[-1]), parts[:-1]
     top_down = kind == "downlooking" and not section
-    if valid is None:
-        valid = sorted(DownlookingScenario.model_fields) if top_down else fields_at(section)
+    if valid is None:  # the section's fields, found with the union's tags kept (which experiment)
+        valid = fields_at(list(loc)[:-1], DownlookingScenario if kind == "downlooking" else Scenario)
     where = ("a down-looking scenario" if top_down else ".".join(str(p) for p in section) or "the scenario")
     hint = did_you_mean(key, [v for v in valid if v != key])
     if top_down and key in Scenario.model_fields:
@@ -156,6 +172,11 @@ def _problem(e: dict) -> tuple[str, ScenarioError]:
         kind = parts.pop(0)
     if e["type"] == "extra_forbidden":
         return "extra", unknown_key_error(parts, _short(e.get("input")), kind=kind)
+    if e["type"] == "union_tag_invalid" and parts == ["experiment"]:  # a kind that does not exist
+        tag = (e.get("ctx") or {}).get("tag")
+        return "extra", ScenarioError("experiment.kind", tag, "is not an experiment kind"
+                                      f"{did_you_mean(tag, _EXPERIMENT_TAGS)}; the kinds: {', '.join(_EXPERIMENT_TAGS)} "
+                                      "(none: a SAL scenario)")
     parts = [p for i, p in enumerate(parts) if not (i and parts[i - 1] == "experiment" and p in _EXPERIMENT_TAGS)]
     problem = (e.get("ctx") or {}).get("error")
     if isinstance(problem, FieldProblem):  # a check across fields that names the field it refuses
