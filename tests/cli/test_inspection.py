@@ -99,3 +99,21 @@ def test_examples_copy_holds_everything_the_readme_runs(tmp_path):
     for f in (tmp_path / "ex" / "sweeps").glob("*.yaml"):
         assert resolve_request(f).description
     assert "sweeps/turbulence_cn2.yaml" in r.stdout
+
+
+def test_info_describes_a_sweep_file_and_run_refuses_one_saying_what_it_is(tmp_path):
+    """`salkit info` of a sweep file (and `salkit run` of one) said "sweep = 1: 'sweep' is not a field
+    of the scenario (...) (and 10 more problems ...)". `info` now describes it: base scenario, axes,
+    points and runs, every point checked; `run` and `simulate` say it is a sweep file."""
+    f = EXAMPLES / "sweeps" / "irw_vs_bandwidth.yaml"
+    r = salkit("info", f)
+    assert r.returncode == 0, r.stderr
+    assert "sweep file 'irw_vs_bandwidth' over" in r.stdout and "spotlight_points.yaml (sal)" in r.stdout
+    assert "waveform.bandwidth: 6 values (lin): 1e+09, 2.3e+09" in r.stdout and "6 points x 1 realisation: 6 runs" in r.stdout
+    d = json.loads(salkit("info", f, "--json").stdout)
+    assert d["kind"] == "sweep" and d["points"] == 6 and d["axes"][0]["field"] == "waveform.bandwidth"
+    for cmd in (["run", f, "--out", tmp_path / "o"], ["simulate", f, "--out", tmp_path / "r.nc"]):
+        r = salkit(*cmd)
+        assert r.returncode == 2 and "is a sweep file (sweep, scenario, vary), not a scenario: run it with salkit sweep" \
+            in r.stderr
+    assert not (tmp_path / "o").exists()

@@ -154,12 +154,54 @@ def _with_units(d: dict) -> dict:
     return {**d, "units": units}
 
 
+def _is_sweep(path: Path) -> bool:
+    """Whether a YAML file is a sweep file (:func:`salkit.studies.spec.is_sweep_file`)."""
+    from ..studies.spec import is_sweep_file
+    return path.is_file() and is_sweep_file(path)
+
+
+def _sweep_info(path: Path, as_json: bool) -> None:
+    """`salkit info` of a sweep file: its base scenario, axes, points, realisations and metrics, every
+    point checked as `salkit sweep` checks them before any work."""
+    from ..studies.spec import resolve_request
+    from ..systems.study import prepare
+    import os
+    request = resolve_request(path)
+    sc, plan, invalid = prepare(request)
+    base = os.path.normpath(request.scenario)
+    d = {"name": request.name or path.stem, "kind": "sweep", "description": request.description,
+         "scenario": base, "sets": list(request.sets), "axes": plan.definition()["axes"],
+         "zip": plan.zipped, "points": plan.n_points, "realisations": plan.realisations,
+         "runs": plan.n_points * plan.realisations - len(invalid) * plan.realisations,
+         "metrics": list(plan.metrics) or "every numeric metric", "invalid_points": {str(i): why for i, why in invalid.items()}}
+    if as_json:
+        out.print_json(json.dumps(d))
+        return
+    lines = [f"{path}: sweep file '{d['name']}' over {base} ({sc.kind})"]
+    if d["description"]:
+        lines.append(f"  {d['description']}")
+    for a in d["axes"]:
+        vals = a["values"]
+        shown = ", ".join(f"{v:.4g}" if isinstance(v, float) else str(v) for v in vals[:6]) + (", ..." if len(vals) > 6 else "")
+        lines.append(f"  {a['field']}: {len(vals)} values ({a['scale']}): {shown}")
+    lines.append(f"  {d['points']} points{' (zipped)' if d['zip'] else ''} x {d['realisations']} realisation"
+                 f"{'s' if d['realisations'] != 1 else ''}: {d['runs']} runs; metrics: "
+                 f"{', '.join(d['metrics']) if isinstance(d['metrics'], list) else d['metrics']}")
+    for i, why in invalid.items():
+        lines.append(f"  invalid point {i} ({', '.join(plan.overrides(i))}): {why}")
+    for line in lines:
+        out.print(line, highlight=False, soft_wrap=True)
+
+
 @_guard
-def info(path: Path = typer.Argument(..., metavar="PATH", help="a salkit NetCDF file, or a scenario YAML"),
+def info(path: Path = typer.Argument(..., metavar="PATH", help="a salkit NetCDF file, a scenario YAML or a sweep file"),
          as_json: bool = typer.Option(False, "--json", help="everything as JSON, for machines")):
     """Describe a data file (kind, sizes, grid, frequencies, brightest sample; every chunk read and its
-    checksum verified: a corrupt file exits 2) or a scenario with its derived quantities. ``--json``:
+    checksum verified: a corrupt file exits 2), a scenario with its derived quantities, or a sweep file
+    (its axes, points and runs, every point checked). ``--json``:
     the same as JSON, numbers typed, flags as true/false, a "units" map for every quantity with a unit."""
+    if path.suffix.lower() in (".yaml", ".yml") and _is_sweep(path):
+        return _sweep_info(path, as_json)
     if path.suffix.lower() in (".yaml", ".yml"):
         from ..geometry import build_collection, check_sampling, resolution_theory
         from ..params import load_scenario

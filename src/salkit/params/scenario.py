@@ -414,7 +414,12 @@ def load_scenario(path: str | Path, overrides: Iterable[str] = ()) -> Scenario |
     --------
     >>> sc = load_scenario("examples/spotlight_points.yaml", ["waveform.bandwidth=2e9"])  # doctest: +SKIP
     """
-    data = apply_overrides(read_yaml(path), [overrides] if isinstance(overrides, str) else overrides)
+    raw = read_yaml(path)
+    if isinstance(raw, Mapping) and "sweep" in raw and "vary" in raw:  # a study, not one scenario
+        raise ScenarioError("scenario", str(path), "is a sweep file (sweep, scenario, vary), not a scenario: run it "
+                            "with salkit sweep (salkit.systems.study.prepare from Python), or give its base scenario, "
+                            f"{raw.get('scenario')!r}")
+    data = apply_overrides(raw, [overrides] if isinstance(overrides, str) else overrides)
     return parse_scenario(data)
 
 
