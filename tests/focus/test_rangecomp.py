@@ -84,3 +84,11 @@ def test_image_file_scene(tmp_path):
     outside = im[(np.abs(A) > 0.3) | (np.abs(R) > 0.3)].mean()
     assert inside > 20 * outside
     assert inside == pytest.approx(1.0, rel=0.15)  # unit reflectivity cells image to ~1
+
+
+def test_a_path_where_the_dataset_belongs_is_refused_naming_it():
+    """range_compress("raw.nc") raised AttributeError ('str' object has no attribute 'attrs')."""
+    from salkit.errors import DataFileError
+    from salkit.focus import range_compress
+    with pytest.raises(DataFileError, match=r"range_compress: raw = 'raw.nc': must be an xarray.Dataset"):
+        range_compress("raw.nc")

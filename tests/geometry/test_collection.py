@@ -87,3 +87,9 @@ def test_support_resolution_of_a_full_circle_is_the_same_on_both_axes():
     assert rho_r == pytest.approx(lam4 / (1 + 5e8 / (2 * C / 0.03)), rel=2e-3)  # the band adds to the disc's range
     narrow = support_resolution(_circle(4.0), 5e8, 0.03, np.array([7000.0, 0.0, 7000.0]), a, r)
     assert narrow[0] == pytest.approx(C / (2 * 5e8 * math.cos(math.radians(45.0))), rel=0.02)
+
+
+def test_truth_positions_of_what_is_not_a_scenario_is_refused():
+    """truth_positions("x.yaml") raised AttributeError ('str' object has no attribute 'platform')."""
+    with pytest.raises(ScenarioError, match=r"scenario = 'x.yaml': must be a Scenario.*salkit.load_scenario"):
+        truth_positions("x.yaml")

@@ -63,3 +63,13 @@ def test_the_truth_is_pairs_and_one_pair_is_one_target(image):
     for bad in ([1, 2, 3], np.zeros((2, 3)), np.zeros((4, 2, 1)), "0,0", [[0, 0], [1]]):
         with pytest.raises(ScenarioError, match=r"truth = .*must be \(azimuth, range\) pairs in m"):
             measure(image, truth=bad)
+
+
+def test_the_reflectivity_phase_must_be_phases(image):
+    """reflectivity_phase="a" raised TypeError from inside (float minus str)."""
+    from salkit.errors import ScenarioError
+    for bad in ("a", float("nan"), [[1.0, 2.0]]):
+        with pytest.raises(ScenarioError, match=r"reflectivity_phase = .*must be a finite phase in rad"):
+            measure(image, reflectivity_phase=bad)
+    assert measure(image, reflectivity_phase=[1.1])["peak_phase_error_rad"] == measure(
+        image, reflectivity_phase=1.1)["peak_phase_error_rad"]

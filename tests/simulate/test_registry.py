@@ -42,3 +42,11 @@ def test_noise_must_be_a_switch(monkeypatch):
     for bad in ("no", 1, 0.0):
         with pytest.raises(ScenarioError, match=r"noise = .*: must be True, False or None"):
             simulate(sc, noise=bad)
+
+
+def test_progress_must_be_callable():
+    """progress=5 raised TypeError ('int' object is not callable) from inside the simulation."""
+    import pytest
+    from salkit.errors import ScenarioError
+    with pytest.raises(ScenarioError, match=r"progress = 5: must be a callable progress\(done, total\)"):
+        simulate(parse_scenario(SPOT), progress=5)

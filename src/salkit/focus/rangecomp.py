@@ -45,6 +45,10 @@ def range_compress(raw: xr.Dataset, chirp_correction: str = "none",
         ``signal`` with dims (slow_time, frequency), ``frequency`` in Hz (absolute optical), the RVP
         removed, and the per-pulse geometry of ``raw``.
     """
+    if not isinstance(raw, xr.Dataset):  # a path, or an array, where the dataset belongs
+        text = repr(raw)
+        raise DataFileError(f"range_compress: raw = {text if len(text) <= 80 else text[:77] + '...'}: must be an "
+                            "xarray.Dataset (salkit.simulate's output, or a file opened with salkit.io.open_dataset)")
     kind = raw.attrs.get("salkit_kind")
     if kind == "phase_history":
         return raw

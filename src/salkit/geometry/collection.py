@@ -12,6 +12,7 @@ import numpy as np
 
 from ..constants import SPEED_OF_LIGHT
 from ..params.models import Grid, Scenario
+from ..params.scenario import require_scenario
 from .orbit import keplerian_positions
 
 _special = _lazy.load("scipy.special", suppress_warning=True)  # on first use: 0.3 s of a process's start
@@ -441,6 +442,7 @@ def truth_positions(scenario: Scenario, collection: Collection | None = None) ->
     float64 (N, 2)
         m.
     """
+    require_scenario(scenario)
     col = collection if collection is not None else build_collection(scenario)
     grid = scenario.processing.grid
     plane = image_plane(col, grid)

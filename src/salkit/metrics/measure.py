@@ -111,6 +111,15 @@ def measure(image: xr.Dataset, truth: np.ndarray | None = None, reflectivity_pha
                 (f"<{type(truth).__name__} of shape {arr.shape}>" if arr.size else f"<{type(truth).__name__}>")
             raise ScenarioError("truth", shown, "must be (azimuth, range) pairs in m, an array of shape (T, 2)")
         truth = arr
+    if reflectivity_phase is not None:
+        try:
+            rp = np.asarray(reflectivity_phase, dtype=np.float64)
+        except (TypeError, ValueError):
+            rp = np.array([np.nan])
+        if rp.ndim > 1 or not np.all(np.isfinite(rp)):
+            raise ScenarioError("reflectivity_phase", reflectivity_phase if len(repr(reflectivity_phase)) <= 80 else
+                                f"<{type(reflectivity_phase).__name__}>",
+                                "must be a finite phase in rad, or one per truth target")
     img = np.asarray(image["image"].values)
     az = np.asarray(image["azimuth"].values, dtype=np.float64)
     rg = np.asarray(image["range"].values, dtype=np.float64)

@@ -39,6 +39,8 @@ def simulate(scenario, progress: ProgressFn = None, noise: bool | None = None,
     ...                              ["platform.aperture_length=0.5"]))  # doctest: +SKIP
     """
     require_scenario(scenario)
+    if progress is not None and not callable(progress):
+        raise ScenarioError("progress", progress, "must be a callable progress(done, total), or None")
     if noise is not None and not isinstance(noise, (bool, np.bool_)):  # "no" would be true
         raise ScenarioError("noise", noise, "must be True, False or None (the scenario's receiver.noise.enabled)")
     kind = "downlooking" if scenario.is_downlooking else "sal"
