@@ -22,6 +22,38 @@ class _NotGiven:
 NOT_GIVEN = _NotGiven()
 
 
+def shown(value, limit: int = 80):
+    """A value as a one-line error message shows it: an array by its type and shape, anything else
+    itself where its repr fits ``limit`` characters, else by its type (and length).
+
+    Parameters
+    ----------
+    value : object
+        What the caller gave.
+    limit : int
+        Longest repr shown as it is, characters.
+
+    Returns
+    -------
+    object
+        ``value`` itself, or a short ``"<...>"`` description of it.
+
+    Examples
+    --------
+    >>> shown("raw.nc"), shown(list(range(100)))
+    ('raw.nc', '<list of 100 items>')
+    """
+    shape = getattr(value, "shape", None)
+    if shape is not None and hasattr(value, "dtype"):  # an array's repr spans lines
+        return f"<{type(value).__name__} of shape {tuple(shape)}>"
+    if len(repr(value)) <= limit:
+        return value
+    try:
+        return f"<{type(value).__name__} of {len(value)} items>"
+    except TypeError:
+        return f"<{type(value).__name__}>"
+
+
 class ScenarioError(SalkitError):
     """A scenario field has a bad value.
 

@@ -154,12 +154,6 @@ def _with_units(d: dict) -> dict:
     return {**d, "units": units}
 
 
-def _is_sweep(path: Path) -> bool:
-    """Whether a YAML file is a sweep file (:func:`salkit.studies.spec.is_sweep_file`)."""
-    from ..studies.spec import is_sweep_file
-    return path.is_file() and is_sweep_file(path)
-
-
 def _sweep_info(path: Path, as_json: bool) -> None:
     """`salkit info` of a sweep file: its base scenario, axes, points, realisations and metrics, every
     point checked as `salkit sweep` checks them before any work."""
@@ -172,7 +166,7 @@ def _sweep_info(path: Path, as_json: bool) -> None:
     d = {"name": request.name or path.stem, "kind": "sweep", "description": request.description,
          "scenario": base, "sets": list(request.sets), "axes": plan.definition()["axes"],
          "zip": plan.zipped, "points": plan.n_points, "realisations": plan.realisations,
-         "runs": plan.n_points * plan.realisations - len(invalid) * plan.realisations,
+         "runs": (plan.n_points - len(invalid)) * plan.realisations,
          "metrics": list(plan.metrics) or "every numeric metric", "invalid_points": {str(i): why for i, why in invalid.items()}}
     if as_json:
         out.print_json(json.dumps(d))
@@ -200,9 +194,12 @@ def info(path: Path = typer.Argument(..., metavar="PATH", help="a salkit NetCDF 
     checksum verified: a corrupt file exits 2), a scenario with its derived quantities, or a sweep file
     (its axes, points and runs, every point checked). ``--json``:
     the same as JSON, numbers typed, flags as true/false, a "units" map for every quantity with a unit."""
-    if path.suffix.lower() in (".yaml", ".yml") and _is_sweep(path):
-        return _sweep_info(path, as_json)
-    if path.suffix.lower() in (".yaml", ".yml"):
+    yaml_file = path.suffix.lower() in (".yaml", ".yml")
+    if yaml_file:
+        from ..studies.spec import is_sweep_file
+        if is_sweep_file(path):
+            return _sweep_info(path, as_json)
+    if yaml_file:
         from ..geometry import build_collection, check_sampling, resolution_theory
         from ..params import load_scenario
         sc = load_scenario(path)

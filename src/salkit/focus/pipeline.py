@@ -20,11 +20,11 @@ import xarray as xr
 from pydantic import ValidationError
 
 from ..choices import ACCURACY, PLANES, check_choice
-from ..errors import NOT_GIVEN, DataFileError, ResourceError, ScenarioError
+from ..errors import NOT_GIVEN, DataFileError, ResourceError, ScenarioError, shown
 from ..geometry.collection import build_collection, grid_axes, plane_from, truth_positions
 from ..geometry.geodesy import image_geolocation
 from ..io.datasets import make_image_dataset
-from ..io.reading import lazy_reads, open_dataset
+from ..io.reading import lazy_reads, open_dataset, require_dataset
 from ..io.writing import ImageFileWriter
 from ..metrics.pointtarget import support_ipr, window_ipr
 from ..params.models import Grid, Processing, Scenario
@@ -133,18 +133,12 @@ def run_memory_estimate(scenario: Scenario) -> tuple[float, str]:
                                          f"({8.0 * P * N / 2 ** 30:.3g} GiB of signal) onto {g.nx} x {g.ny} pixels")
 
 
-def _short_repr(value) -> str:
-    """``repr(value)`` cut to 80 characters, for an error message."""
-    text = repr(value)
-    return text if len(text) <= 80 else text[:77] + "..."
-
-
 def _as_grid(grid) -> Grid | None:
     """``focus``'s grid: a Grid, None, or a mapping of a Grid's fields (validated into one)."""
     if grid is None or isinstance(grid, Grid):
         return grid
     if not isinstance(grid, Mapping):
-        raise ScenarioError("grid", _short_repr(grid), "must be a Grid (salkit.params.Grid), a mapping of its fields "
+        raise ScenarioError("grid", shown(grid), "must be a Grid (salkit.params.Grid), a mapping of its fields "
                             "(nx, ny, dx, dy, ...) or None")
     try:
         return Grid.model_validate(dict(grid))
@@ -225,12 +219,10 @@ def focus(raw: xr.Dataset, processing: Optional[Processing] = None, *, scenario=
     >>> image = focus(raw, algorithm="pfa")  # doctest: +SKIP
     >>> image = focus(raw, algorithm="ffbp", memory_limit="512MiB")  # doctest: +SKIP
     """
-    if not isinstance(raw, xr.Dataset):  # a path, or an array, where the dataset belongs
-        raise DataFileError(f"focus: raw = {_short_repr(raw)}: must be an xarray.Dataset (salkit.simulate's output, "
-                            "or a file opened with salkit.io.open_dataset)")
+    require_dataset(raw, "focus")
     if processing is not None and not isinstance(processing, Processing):
         hint = (f"; to choose a former by name, algorithm={processing!r}" if isinstance(processing, str) else "")
-        raise ScenarioError("processing", processing if len(repr(processing)) <= 80 else _short_repr(processing),
+        raise ScenarioError("processing", shown(processing),
                             f"must be a Processing block (a scenario's .processing) or None{hint}")
     if scenario is not None:
         require_scenario(scenario)

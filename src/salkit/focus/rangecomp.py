@@ -17,6 +17,7 @@ import xarray as xr
 from ..constants import SPEED_OF_LIGHT
 from ..errors import DataFileError
 from ..errors import ScenarioError
+from ..io.reading import require_dataset
 from .chirpcorr import correct_deskew, correct_resample, estimate_nonlinear_phase, remove_reference_noise
 from .dechirp import analytic, deskew
 
@@ -45,10 +46,7 @@ def range_compress(raw: xr.Dataset, chirp_correction: str = "none",
         ``signal`` with dims (slow_time, frequency), ``frequency`` in Hz (absolute optical), the RVP
         removed, and the per-pulse geometry of ``raw``.
     """
-    if not isinstance(raw, xr.Dataset):  # a path, or an array, where the dataset belongs
-        text = repr(raw)
-        raise DataFileError(f"range_compress: raw = {text if len(text) <= 80 else text[:77] + '...'}: must be an "
-                            "xarray.Dataset (salkit.simulate's output, or a file opened with salkit.io.open_dataset)")
+    require_dataset(raw, "range_compress")
     kind = raw.attrs.get("salkit_kind")
     if kind == "phase_history":
         return raw

@@ -13,7 +13,7 @@ import numpy as np
 import yaml
 import xarray as xr
 
-from ..errors import DataFileError
+from ..errors import DataFileError, shown
 from .datasets import RAW_KINDS
 from .ingest import normalise_phase_history
 
@@ -249,6 +249,28 @@ def _numeric_attrs(ds: xr.Dataset, p) -> None:
             raise DataFileError(f"{p}: attribute {name} = {raw!r}: must be a finite number {constraint}") from None
         if not (math.isfinite(v) and ok(v)):
             raise DataFileError(f"{p}: attribute {name} = {v!r}: must be a finite number {constraint}")
+
+
+def require_dataset(value, who: str, name: str = "raw") -> None:
+    """Refuse what is not a dataset where a function takes one (a path, an array).
+
+    Parameters
+    ----------
+    value : object
+        What the caller gave.
+    who : str
+        The function, for the message.
+    name : str
+        The argument's name.
+
+    Raises
+    ------
+    DataFileError
+        Naming the function, the argument and the way to a dataset.
+    """
+    if not isinstance(value, xr.Dataset):
+        raise DataFileError(f"{who}: {name} = {shown(value)!r}: must be an xarray.Dataset (salkit.simulate's "
+                            "output, or a file opened with salkit.io.open_dataset)")
 
 
 def read_raw(path: str | Path, lazy: bool = False) -> xr.Dataset:

@@ -10,7 +10,7 @@ from .image import contrast_from_moments, entropy_from_moments, scan
 from .pointtarget import analyse_point
 from ..signals.phase import wrap
 from ..constants import SPEED_OF_LIGHT
-from ..errors import DataFileError, ScenarioError
+from ..errors import DataFileError, ScenarioError, shown
 
 
 def image_phase_model(image: xr.Dataset):
@@ -107,9 +107,7 @@ def measure(image: xr.Dataset, truth: np.ndarray | None = None, reflectivity_pha
         if arr.shape == (2,):
             arr = arr[None]
         if arr.ndim != 2 or arr.shape[1] != 2:
-            shown = truth if not isinstance(truth, np.ndarray) and len(repr(truth)) <= 80 else \
-                (f"<{type(truth).__name__} of shape {arr.shape}>" if arr.size else f"<{type(truth).__name__}>")
-            raise ScenarioError("truth", shown, "must be (azimuth, range) pairs in m, an array of shape (T, 2)")
+            raise ScenarioError("truth", shown(truth), "must be (azimuth, range) pairs in m, an array of shape (T, 2)")
         truth = arr
     if reflectivity_phase is not None:
         try:
@@ -117,8 +115,7 @@ def measure(image: xr.Dataset, truth: np.ndarray | None = None, reflectivity_pha
         except (TypeError, ValueError):
             rp = np.array([np.nan])
         if rp.ndim > 1 or not np.all(np.isfinite(rp)):
-            raise ScenarioError("reflectivity_phase", reflectivity_phase if len(repr(reflectivity_phase)) <= 80 else
-                                f"<{type(reflectivity_phase).__name__}>",
+            raise ScenarioError("reflectivity_phase", shown(reflectivity_phase),
                                 "must be a finite phase in rad, or one per truth target")
     img = np.asarray(image["image"].values)
     az = np.asarray(image["azimuth"].values, dtype=np.float64)

@@ -10,7 +10,7 @@ from typing import Any, Iterable, Mapping
 import yaml
 from pydantic import BaseModel, TypeAdapter, ValidationError
 
-from ..errors import NOT_GIVEN, EnvironmentProblem, ScenarioError, require_scenario_file
+from ..errors import NOT_GIVEN, EnvironmentProblem, ScenarioError, require_scenario_file, shown
 from .base import FieldProblem
 from .models import AnyScenario, DownlookingScenario, Scenario
 
@@ -246,8 +246,7 @@ def require_scenario(value, name: str = "scenario") -> None:
         hint = "; parse a mapping with salkit.params.parse_scenario(data)"
     else:
         hint = ""
-    shown = value if isinstance(value, (str, Path, type(None))) else f"<{type(value).__name__}>"
-    raise ScenarioError(name, str(shown) if isinstance(shown, Path) else shown,
+    raise ScenarioError(name, str(value) if isinstance(value, Path) else shown(value),
                         f"must be a Scenario or DownlookingScenario{hint}")
 
 
@@ -396,6 +395,27 @@ def stored_scenario(attrs: Mapping[str, Any]) -> Scenario | DownlookingScenario 
 _LOADER = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 
 
+def is_sweep_document(data) -> bool:
+    """Whether a parsed YAML document is a sweep definition (``sweep`` and ``vary`` at its top
+    level, :mod:`salkit.studies.spec`), not a scenario.
+
+    Parameters
+    ----------
+    data : object
+        The parsed document.
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> is_sweep_document({"sweep": 1, "scenario": "base.yaml", "vary": {"seed": "1,2"}}), is_sweep_document({"name": "x"})
+    (True, False)
+    """
+    return isinstance(data, Mapping) and "sweep" in data and "vary" in data
+
+
 def load_scenario(path: str | Path, overrides: Iterable[str] = ()) -> Scenario | DownlookingScenario:
     """Load, override and validate a scenario file.
 
@@ -415,7 +435,7 @@ def load_scenario(path: str | Path, overrides: Iterable[str] = ()) -> Scenario |
     >>> sc = load_scenario("examples/spotlight_points.yaml", ["waveform.bandwidth=2e9"])  # doctest: +SKIP
     """
     raw = read_yaml(path)
-    if isinstance(raw, Mapping) and "sweep" in raw and "vary" in raw:  # a study, not one scenario
+    if is_sweep_document(raw):  # a study, not one scenario
         raise ScenarioError("scenario", str(path), "is a sweep file (sweep, scenario, vary), not a scenario: run it "
                             "with salkit sweep (salkit.systems.study.prepare from Python), or give its base scenario, "
                             f"{raw.get('scenario')!r}")

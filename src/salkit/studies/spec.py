@@ -11,7 +11,7 @@ import yaml
 
 from ..errors import ScenarioError
 from ..metrics.table import check_metric
-from ..params.scenario import did_you_mean
+from ..params.scenario import did_you_mean, is_sweep_document
 
 #: Most points an axis may hold (a typo such as lin:0:1:1e6 is refused before any work).
 MAX_AXIS_POINTS = 10_000
@@ -195,7 +195,7 @@ def is_sweep_file(path) -> bool:
         data = yaml.safe_load(Path(path).read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, yaml.YAMLError):
         return False
-    return isinstance(data, dict) and "sweep" in data and "vary" in data
+    return is_sweep_document(data)
 
 
 def read_sweep_file(path) -> SweepFile:
