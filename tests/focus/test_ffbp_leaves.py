@@ -74,3 +74,105 @@ def test_polynomial_weights_equal_the_least_squares_weights(os):
     table = interpolation_table(8, os)
     nearest = table[np.rint(t * (table.shape[0] - 1)).astype(int)]
     assert np.abs(w - exact).max() < np.abs(nearest - exact).max()
+
+
+def _seed_case(which="5km", n=128, plane="slant"):
+    """A seed geometry's phase history of a few points (straight track), its grid and the exact
+    former's image on every 8th row."""
+    from salkit.focus import phase_history
+    from salkit.focus.exact import exact_image
+    from salkit.focus.formers import ImageGrid
+    from salkit.simulate.testbeds import seed
+    tb = seed(which, n, plane)
+    pts, amp = tb.point_targets(n, count=5)
+    ph = phase_history(tb.dataset(pts, amp))
+    ig = ImageGrid.of(ph, tb.grid(n))
+    sel = np.arange(4, n, 8)
+    rows = ig.plane.points(ig.azimuth[sel], np.zeros(sel.size))
+    truth = exact_image(ph.data, ph.freq, ph.positions, ph.reference_range, rows, ig.plane.range, ig.range)
+    return ph, ig, sel, truth
+
+
+def _form(ph, ig, **kw):
+    """FFBP's image normalised as the ``ffbp`` former's (no window: by pulses x frequencies), and its info."""
+    import salkit.focus.ffbp as F
+    P, M = ph.data.shape
+    img, info = F.ffbp(ph.data, ph.freq, ph.positions, ph.reference_range, ig, np.ones(P), np.ones(M), **kw)
+    return img / np.float32(P * M), info
+
+
+def _db(a, b):
+    return 10 * np.log10(np.sum(np.abs(a - b) ** 2) / np.sum(np.abs(b) ** 2))
+
+
+@pytest.mark.parametrize("which, plane", [("5km", "slant"), ("200km", "ground")])
+def test_fft_leaves_are_the_interpolating_leaves_without_their_error(monkeypatch, which, plane):
+    """On a seed paper's straight track the leaves are formed by FFT (the pulses' spectra with their
+    range ramps, no profile interpolation): the image differs from the interpolating leaves' (the
+    same 16-pulse leaves) by their interpolation error only, and is at least as close to the
+    exact matched filter."""
+    import salkit.focus.ffbp as F
+    ph, ig, sel, truth = _seed_case(which, 128, plane)
+    lay = F.ffbp_layout(ph.positions, ph.freq, ig)
+    assert lay.fft_leaves and max(b - a for a, b in lay.levels[0][0]) == F.FFT_LEAF_PULSES
+    fft, info = _form(ph, ig, leaf=16)
+    assert info["ffbp_leaf_pulses"] == 16
+    monkeypatch.setattr(F, "FFT_LEAVES", False)
+    interp, _ = _form(ph, ig, leaf=16)
+    assert _db(fft, interp) < -60.0
+    e_fft, e_interp = _db(fft[sel], truth), _db(interp[sel], truth)
+    assert e_fft < -50.0 and e_fft <= e_interp + 0.2  # 200 km at 128^2: -53.3 dB either way (-55.3 with 32-pulse leaves)
+
+
+def test_default_leaves_by_fft_are_longer_and_as_exact():
+    """Where the leaves fit the FFT, the default takes leaves of FFT_LEAF_PULSES (at 4096 pulses one
+    merge fewer) and stays within the default's accuracy against the exact matched filter."""
+    import salkit.focus.ffbp as F
+    for plane in ("slant", "ground"):
+        ph, ig, sel, truth = _seed_case("5km", 256, plane)
+        img, info = _form(ph, ig)
+        assert info["ffbp_leaf_pulses"] == F.FFT_LEAF_PULSES
+        assert _db(img[sel], truth) < -55.0, plane
+
+
+def test_curved_tracks_keep_the_interpolating_leaves():
+    """A pulse's range against its leaf's centre moves along a polar line where the track bends
+    or climbs (the 4-degree X-band arc: by far more than the FFT leaves' tolerance), so those
+    leaves are interpolated, 16 pulses long, as before; a straight track's spread is the
+    closed form's |q|^2 (1 - u^2) / 2 (1/r_near - 1/r_far), metres below a picometre."""
+    import salkit.focus.ffbp as F
+    from salkit.focus import phase_history
+    from salkit.focus.formers import ImageGrid
+    from salkit.simulate.testbeds import wide_angle
+    tb = wide_angle(4.0, 0.5, "ground")
+    pts, amp = tb.point_targets(64, count=3)
+    ph = phase_history(tb.dataset(pts, amp))
+    ig = ImageGrid.of(ph, tb.grid(64))
+    lay = F.ffbp_layout(ph.positions, ph.freq, ig)
+    assert not lay.fft_leaves and max(b - a for a, b in lay.levels[0][0]) == F.LEAF_PULSES
+    spans, centres = lay.levels[0][0], lay.levels[0][1]
+    spread = F.leaf_shift_spread(spans, centres, lay.grids[0], ph.positions, ig, lay.dr)
+    assert 4 * np.pi * ph.freq[-1] / 299792458.0 * spread > 10 * F.FFT_LEAF_TOLERANCE
+    _, info = _form(ph, ig)
+    assert info["ffbp_leaf_pulses"] == F.LEAF_PULSES
+    # a straight track: the closed form bounds the sampled spread from above, and meets it within 10 %
+    ph2, ig2, _, _ = _seed_case("5km", 64)
+    lay2 = F.ffbp_layout(ph2.positions, ph2.freq, ig2, "standard")
+    spans2, centres2 = lay2.levels[0][0], lay2.levels[0][1]
+    u0, du, nu, r0, nr = lay2.grids[0]
+    spread2 = F.leaf_shift_spread(spans2, centres2, lay2.grids[0], ph2.positions, ig2, lay2.dr)
+    a = np.array([np.abs((ph2.positions[[s0, s1 - 1]] - c) @ ig2.plane.azimuth).max() for (s0, s1), c in zip(spans2, centres2)])
+    u_min = np.minimum(np.abs(u0), np.abs(u0 + (nu - 1) * du))
+    bound = np.max(a ** 2 * (1 - u_min ** 2) / 2 * (1 / r0 - 1 / (r0 + (nr - 1) * lay2.dr)))
+    assert 0.9 * bound <= spread2 <= 1.01 * bound
+
+
+def test_fft_leaves_layout_holds_lines_of_the_profile_length():
+    """The FFT leaves' grid buffer holds each line a whole profile period long (they are transformed
+    in place), and the layout's bytes say so."""
+    import salkit.focus.ffbp as F
+    ph, ig, _, _ = _seed_case("5km", 64)
+    lay = F.ffbp_layout(ph.positions, ph.freq, ig)
+    S = len(lay.levels[0][0])
+    assert lay.fft_leaves and lay.grid_bytes[0] == 8.0 * S * int(lay.grids[0][2].max()) * lay.nfft
+    assert lay.nfft >= int(lay.grids[0][4].max())

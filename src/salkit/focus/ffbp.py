@@ -30,6 +30,16 @@ there and cost half the step), so each bin's weights come from the kernel's poly
 fraction (``polynomial_weights``, degree 6, within 1e-5 of the float64 weights), in runs of one
 integer angle index, over contiguous floats.
 
+Leaves by FFT: where each pulse's range against its leaf's centre, |x - p| - |x - c|, is constant
+along every polar line of the leaf to :data:`FFT_LEAF_TOLERANCE` (a straight track: it moves by
+|q|^2 (1 - u^2) / 2 times the spread of 1 / r, picometres; :func:`fft_leaves_fit`), a leaf's line is
+the sum over its pulses of their profiles shifted by that constant, and each profile is the inverse
+transform of the pulse's windowed spectrum: so the line is one inverse FFT of the sum of the pulses'
+spectra, each times the phase ramp of its shift and its baseband phase (:func:`_fft_leaves`). Exact
+(no interpolation of profiles, no profiles at all), a product a pulse and frequency and a transform a
+line; leaves of :data:`FFT_LEAF_PULSES` then pay (one merge fewer). A curved or climbing track keeps
+the interpolated leaves below.
+
 Range sampling: a sub-image at baseband holds each pulse's echo at range frequency
 (2 f / c) D - 2 f_c / c along the lines it is interpolated on, D the rate of the pulse's range
 against the sub-image's (:func:`range_widening`). D is 1 for a short sub-aperture; over a wide
@@ -55,10 +65,10 @@ kilometres each rounded to 6e-11 m. Each polar grid keeps :data:`MARGIN_ANGLE` a
 
 Accuracy knobs: ``oversample_angle`` and ``oversample_range`` (samples per Nyquist interval of
 the polar grids), ``range_taps`` and ``leaf`` (pulses backprojected directly into each
-first-level sub-image). Defaults (1.75, 2.0, 8, 16): -56.1 to -61 dB image error against the exact
-matched filter on the test geometries (:mod:`salkit.simulate.testbeds`, arcs of 4 to 60 degrees
-among them), not growing with the collection (1024^2 to 8192^2 pixels and pulses); :data:`ACCURATE`
-(3.0, 2.5): -70.0 to -77.2 dB.
+first-level sub-image). Defaults (1.75, 2.0, 8, and leaves of 32 pulses by FFT or 16 interpolated):
+-56.1 to -61 dB image error against the exact matched filter on the test geometries
+(:mod:`salkit.simulate.testbeds`, arcs of 4 to 60 degrees among them), not growing with the
+collection (1024^2 to 8192^2 pixels and pulses); :data:`ACCURATE` (3.0, 2.5): -70.0 to -77.5 dB.
 docs/performance.md gives the accuracy-speed curve.
 """
 from __future__ import annotations
@@ -68,9 +78,10 @@ from decimal import Decimal, localcontext
 from typing import NamedTuple
 
 import numpy as np
+import scipy.fft as sfft
 
 from ..choices import ACCURACY, check_choice
-from ..constants import SPEED_OF_LIGHT
+from ..constants import FFT_WORKERS, SPEED_OF_LIGHT
 from ..errors import ScenarioError
 from ..resources import check_memory, gib
 from ..signals.windows import Window
@@ -97,6 +108,18 @@ RANGE_TAPS = 8
 ACCURATE = {"oversample_angle": 3.0, "oversample_range": 2.5}
 #: Taps of the leaves' range interpolation of the pulses' profiles.
 LEAF_TAPS = 8
+#: Pulses a leaf where the leaves are formed by FFT (:func:`fft_leaves_fit`): their cost is a transform a
+#: line and a product a pulse and frequency, so longer leaves pay (one merge fewer at 4096 pulses; on
+#: the synthetic 1.55 um collection at 4096^2 1.74 s against 1.86 s with 16, and -57.7 against -57.1 dB).
+FFT_LEAF_PULSES = 32
+#: Form the leaves by FFT where they fit (:func:`fft_leaves_fit`): each polar line the inverse FFT
+#: of the pulses' spectra with their range ramps, exact, instead of the interpolated range profiles
+#: (tests switch it off to compare).
+FFT_LEAVES = True
+#: Largest phase, rad at the highest frequency, by which a pulse's range against its leaf's centre
+#: may move along a polar line for the FFT leaves (they take it constant along the line): 1e-4 rad,
+#: an error floor near -80 dB.
+FFT_LEAF_TOLERANCE = 1e-4
 #: Samples kept outside the image's extent on each side of a polar grid, in angle and in range:
 #: enough that the next level's interpolation of its own margin finds every tap (4 were too few
 #: for 8 taps: the image's edges lost 10 to 15 dB).
@@ -122,7 +145,8 @@ MAX_PART_WIDENING = 4.0
 MIN_SIDE = 32
 
 
-from .ffbp_leaves import _chunks, _leaf_kernel, interpolation_table, polynomial_weights
+from .ffbp_leaves import (RAMP_BLOCK, _chunks, _leaf_clip, _leaf_kernel, _leaf_spectra, interpolation_table,
+                          polynomial_weights)
 from .ffbp_merges import ANGLE_TAPS, _final_kernel, _final_rows, _merge_kernel
 
 
@@ -427,9 +451,12 @@ class Layout(NamedTuple):
     grid_bytes : list of float
         Each level's grid buffer, bytes (complex64, the largest sub-image's shape for all).
     profile_bytes : float
-        The range profiles, bytes (complex64, pulses x nfft).
+        The range profiles, bytes (complex64, pulses x nfft; with FFT leaves the pulses' spectra,
+        pulses x frequencies).
     image_bytes : float
         The output image, bytes (complex64).
+    fft_leaves : bool
+        Whether the leaves are formed by FFT (:func:`fft_leaves_fit`).
     """
 
     levels: list
@@ -440,6 +467,7 @@ class Layout(NamedTuple):
     grid_bytes: list
     profile_bytes: float
     image_bytes: float
+    fft_leaves: bool = False
 
     @property
     def peak(self) -> float:
@@ -448,6 +476,118 @@ class Layout(NamedTuple):
         even = max(self.grid_bytes[0::2])
         odd = max(self.grid_bytes[1::2], default=0.0)
         return self.profile_bytes + max(self.profile_bytes, even + odd + self.image_bytes)
+
+
+def leaf_shift_spread(spans: list, centres: np.ndarray, grids, positions: np.ndarray, grid: ImageGrid,
+                      dr: float, n_lines: int = 5, n_ranges: int = 17) -> float:
+    """How far a pulse's range against its leaf's centre, |x - p| - |x - c|, moves along a polar
+    line of its leaf, m: the largest spread over each leaf's first, middle and last pulse,
+    ``n_lines`` of its lines (the edges among them) and ``n_ranges`` points along each, in the
+    plane. The FFT leaves (:func:`_fft_leaves`) take it constant along a line; a straight track
+    moves it by |q|^2 (1 - u^2) / 2 times the spread of 1 / r (q the pulse's offset from the
+    centre), a curved or climbing one by the offset across the track times the turn of the line's
+    direction.
+
+    Parameters
+    ----------
+    spans : list of (int, int)
+        The leaves' pulses.
+    centres : float64 (S, 3)
+        The leaves' centres, m.
+    grids : tuple
+        The leaves' polar grids (:func:`_polar_grids`: u0, du, nu, r0, nr).
+    positions : float64 (P, 3)
+        Antenna positions, m.
+    grid : ImageGrid
+    dr : float
+        The grids' range step, m.
+    n_lines, n_ranges : int
+        Lines a leaf and points a line sampled.
+
+    Returns
+    -------
+    float
+        m (0 where no sampled line meets the plane).
+    """
+    u0, du, nu, r0, nr = grids
+    plane = grid.plane
+    o, ea, er = plane.origin, plane.azimuth, plane.range
+    ab = np.asarray(spans, np.int64).reshape(-1, 2)
+    pulses = np.stack([ab[:, 0], (ab[:, 0] + ab[:, 1] - 1) // 2, ab[:, 1] - 1], axis=1)  # (S, 3)
+    frac = np.linspace(0.0, 1.0, n_lines)
+    u = u0[:, None] + du[:, None] * np.rint(frac[None, :] * (nu[:, None] - 1))  # (S, n_lines)
+    r = r0[:, None] + dr * np.linspace(0.0, 1.0, n_ranges)[None, :] * (nr[:, None] - 1)  # (S, n_ranges)
+    d = o - centres
+    da, dg = d @ ea, d @ er
+    h2 = np.einsum("ij,ij->i", d, d) - da * da - dg * dg
+    foot = o - da[:, None] * ea - dg[:, None] * er
+    t2 = r[:, None, :] ** 2 * (1.0 - u * u)[:, :, None] - h2[:, None, None]  # (S, lines, ranges)
+    x = (foot[:, None, None, :] + (r[:, None, :] * u[:, :, None])[..., None] * ea
+         + np.sqrt(np.maximum(t2, 0.0))[..., None] * er)
+    E = x - centres[:, None, None, :]  # (S, lines, ranges, 3)
+    q = centres[:, None, :] - positions[pulses]  # (S, 3, 3): c - p
+    num = 2.0 * np.einsum("slrj,spj->slrp", E, q) + np.einsum("spj,spj->sp", q, q)[:, None, None, :]
+    Rp = np.linalg.norm(E[:, :, :, None, :] + q[:, None, None, :, :], axis=-1)
+    delta = num / (Rp + np.linalg.norm(E, axis=-1)[..., None])  # (S, lines, ranges, pulses)
+    inside = (t2 >= 0.0)[..., None] & np.isfinite(delta)
+    hi = np.where(inside, delta, -np.inf).max(axis=2)
+    lo = np.where(inside, delta, np.inf).min(axis=2)
+    met = np.isfinite(hi) & np.isfinite(lo)
+    return float((hi - lo)[met].max()) if met.any() else 0.0
+
+
+def fft_leaves_fit(spans: list, centres: np.ndarray, grids, positions: np.ndarray, grid: ImageGrid,
+                   freq: np.ndarray, dr: float, nfft: int) -> bool:
+    """Whether the leaves can be formed by FFT (:func:`_fft_leaves`, :data:`FFT_LEAVES`): every
+    leaf line shorter than the profiles' period, and each pulse's range against its leaf's centre
+    constant along every line to :data:`FFT_LEAF_TOLERANCE` radians of phase at the highest
+    frequency (:func:`leaf_shift_spread`).
+
+    Parameters
+    ----------
+    spans, centres, grids, positions, grid, dr
+        As :func:`leaf_shift_spread`.
+    freq : float64 (M,)
+        Frequencies, Hz.
+    nfft : int
+        The profiles' FFT length (:func:`salkit.focus.profiles.profile_sampling`).
+
+    Returns
+    -------
+    bool
+    """
+    if not FFT_LEAVES or int(np.max(grids[4])) > nfft:
+        return False
+    spread = leaf_shift_spread(spans, centres, grids, positions, grid, dr)
+    return 4.0 * math.pi * float(freq[-1]) / SPEED_OF_LIGHT * spread <= FFT_LEAF_TOLERANCE
+
+
+def _fft_leaves(ph, range_window, dr, ref_range, qrel, w, first, count, centres, o, ea, er, u0, du, nu, r0, nr,
+                cyc_per_m, G, batch: int = 256) -> None:
+    """The leaves by FFT into ``G`` (complex64 (S, NU, nfft): a line a row of the profiles' FFT
+    length): for each polar line the pulses' windowed spectra summed with the phase ramps of their
+    ranges (:func:`salkit.focus.ffbp_leaves._leaf_spectra`) and transformed in place, ``batch``
+    lines at a time; exact where :func:`fft_leaves_fit` holds, with no range profiles and no
+    interpolation."""
+    P, M = ph.shape
+    wr = np.asarray(range_window, np.float32)
+    padded = -(-M // RAMP_BLOCK) * RAMP_BLOCK
+    are = np.zeros((P, padded), np.float32)
+    aim = np.zeros((P, padded), np.float32)
+    np.multiply(ph.real, wr, out=are[:, :M], casting="same_kind")
+    np.multiply(ph.imag, wr, out=aim[:, :M], casting="same_kind")
+    S, NU, nfft = G.shape
+    lines = G.reshape(S * NU, nfft)
+    lims = np.empty((min(S * NU, batch), 2), np.int64)
+    for j0 in range(0, S * NU, batch):
+        blk = lines[j0:j0 + batch]
+        n = blk.shape[0]
+        _leaf_spectra(are, aim, M, ref_range, qrel, w, first, count, centres, o, ea, er, u0, du, nu, r0, dr, nr,
+                      cyc_per_m, j0, NU, blk.view(np.float32), lims[:n], _chunks())
+        out = sfft.ifft(blk, axis=1, norm="forward", workers=FFT_WORKERS, overwrite_x=True)
+        if not np.shares_memory(out, blk):  # pragma: no cover - scipy transforms a contiguous block in place
+            blk[...] = out
+        _leaf_clip(blk, lims[:n])
 
 
 def _check_in_front(leaves, grid: ImageGrid) -> None:
@@ -669,30 +809,43 @@ def plan_parts(positions: np.ndarray, freq: np.ndarray, grid: ImageGrid, span_de
     return out
 
 
-def _layout(positions: np.ndarray, freq: np.ndarray, grid: ImageGrid, w: np.ndarray, leaf: int, factor: int,
+def _layout(positions: np.ndarray, freq: np.ndarray, grid: ImageGrid, w: np.ndarray, leaf: int | None, factor: int,
             oversample_angle: float, oversample_range: float) -> Layout:
     """:class:`Layout` of FFBP with these settings (the window ``w`` weighs the sub-apertures'
-    centres)."""
+    centres; ``leaf`` None: leaves of :data:`FFT_LEAF_PULSES` where they can be formed by FFT,
+    else of :data:`LEAF_PULSES`; only the leaves' grids are sized before that is known)."""
     P = positions.shape[0]
-    levels = _tree(positions, w, leaf, factor)
-    _check_in_front(levels[0], grid)
-    # range profiles sampled at the polar grids' range spacing (at least oversample_range per
-    # resolution cell, and per the sub-images' range spectrum where a wide aperture widens it): a
-    # polar line then moves one profile bin per point
-    widen = range_widening(levels, positions, grid, freq, rows=grid.range.size > 1)
-    nfft, dr = profile_sampling(freq, oversample_range * widen)
+    if leaf is None:
+        _check_in_front(_tree(positions, w, LEAF_PULSES, factor)[0], grid)  # named by the shorter leaves
     ea = np.ascontiguousarray(grid.plane.azimuth, np.float64)
     step = float(np.median(np.linalg.norm(np.diff(positions, axis=0), axis=1))) if P > 1 else 0.0
     lam_min = SPEED_OF_LIGHT / float(freq[-1])
-    # the angle sampling: the span and curvature of each sub-aperture, or its band as seen from the
-    # scene where that is wider (a sub-aperture off the plane's range axis)
-    grids = [_polar_grids(cen, np.maximum(_lengths(positions, spans, cen, ea, step),
-                                          angle_lengths(spans, cen, positions, grid)),
-                          grid, lam_min, dr, oversample_angle)
-             for spans, cen, _, _ in levels]
+
+    def polar_grids(spans, cen, dr):
+        # the angle sampling: the span and curvature of each sub-aperture, or its band as seen from
+        # the scene where that is wider (a sub-aperture off the plane's range axis)
+        lengths = np.maximum(_lengths(positions, spans, cen, ea, step), angle_lengths(spans, cen, positions, grid))
+        return _polar_grids(cen, lengths, grid, lam_min, dr, oversample_angle)
+
+    for size in (FFT_LEAF_PULSES, LEAF_PULSES) if leaf is None else (leaf,):
+        levels = _tree(positions, w, size, factor)
+        if leaf is not None:
+            _check_in_front(levels[0], grid)
+        # range profiles sampled at the polar grids' range spacing (at least oversample_range per
+        # resolution cell, and per the sub-images' range spectrum where a wide aperture widens it): a
+        # polar line then moves one profile bin per point
+        widen = range_widening(levels, positions, grid, freq, rows=grid.range.size > 1)
+        nfft, dr = profile_sampling(freq, oversample_range * widen)
+        leaves = polar_grids(levels[0][0], levels[0][1], dr)
+        fft = fft_leaves_fit(levels[0][0], levels[0][1], leaves, positions, grid, freq, dr, nfft)
+        if fft:
+            break
+    grids = [leaves] + [polar_grids(spans, cen, dr) for spans, cen, _, _ in levels[1:]]
     nbytes = [8.0 * len(lv[0]) * int(g[2].max()) * int(g[4].max()) for lv, g in zip(levels, grids)]
-    return Layout(levels, widen, nfft, dr, grids, nbytes, 8.0 * P * nfft,
-                  8.0 * grid.azimuth.size * grid.range.size)
+    if fft:  # the leaves' lines a period of the profiles long; the pulses' spectra instead of profiles
+        nbytes[0] = 8.0 * len(levels[0][0]) * int(grids[0][2].max()) * nfft
+    inputs = 8.0 * P * (-(-freq.size // RAMP_BLOCK) * RAMP_BLOCK if fft else nfft)
+    return Layout(levels, widen, nfft, dr, grids, nbytes, inputs, 8.0 * grid.azimuth.size * grid.range.size, fft)
 
 
 def ffbp_layout(positions: np.ndarray, freq: np.ndarray, grid: ImageGrid, accuracy: str = "standard") -> Layout:
@@ -726,7 +879,7 @@ def ffbp_layout(positions: np.ndarray, freq: np.ndarray, grid: ImageGrid, accura
     if grown is not None:  # a narrow grid is formed wider (ffbp)
         grid = grown[0]
     return _layout(positions, np.asarray(freq, np.float64), grid, np.ones(positions.shape[0], np.float32),
-                   LEAF_PULSES, MERGE_FACTOR, **knobs)
+                   None, MERGE_FACTOR, **knobs)
 
 
 def ffbp_footprint(positions: np.ndarray, freq: np.ndarray, grid: ImageGrid, accuracy: str = "standard") -> float:
@@ -758,7 +911,7 @@ def ffbp_footprint(positions: np.ndarray, freq: np.ndarray, grid: ImageGrid, acc
         return lay.peak - lay.image_bytes
     # in parts: the largest part's peak (its own image beside the one the parts are added into)
     knobs = _knobs(accuracy)
-    needs = _part_needs(parts, positions, freq, g, np.ones(positions.shape[0], np.float32), LEAF_PULSES,
+    needs = _part_needs(parts, positions, freq, g, np.ones(positions.shape[0], np.float32), None,
                         MERGE_FACTOR, **knobs)
     return max(n for n, _ in needs)
 
@@ -781,7 +934,7 @@ def _grown(grid: ImageGrid):
 
 
 def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.ndarray, grid: ImageGrid,
-         azimuth_window: np.ndarray, range_window: np.ndarray, leaf: int = LEAF_PULSES, factor: int = MERGE_FACTOR,
+         azimuth_window: np.ndarray, range_window: np.ndarray, leaf: int | None = None, factor: int = MERGE_FACTOR,
          oversample_angle: float = OVERSAMPLE_ANGLE, oversample_range: float = OVERSAMPLE_RANGE,
          range_taps: int = RANGE_TAPS, progress=None, split: bool = True) -> tuple[np.ndarray, dict]:
     """Fast factorised backprojection onto ``grid``, unnormalised (as direct backprojection).
@@ -804,8 +957,9 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     azimuth_window : float (P,)
         Per-pulse weights.
     range_window : float (M,)
-    leaf : int
-        Pulses per first-level sub-image.
+    leaf : int, optional
+        Pulses per first-level sub-image (default: :data:`FFT_LEAF_PULSES` where the leaves can be
+        formed by FFT, :func:`fft_leaves_fit`, else :data:`LEAF_PULSES`).
     factor : int
         Sub-images merged into each parent.
     oversample_angle, oversample_range : float
@@ -845,6 +999,7 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     # what the sizes alone say: the range widening, and the leaves' margins over a small scene)
     lay = _layout(positions, freq, grid, w, leaf, factor, oversample_angle, oversample_range)
     levels, widen, nfft, dr, grids = lay.levels, lay.widen, lay.nfft, lay.dr, lay.grids
+    leaf = max(b - a for a, b in levels[0][0])
     check_memory(lay.peak, f"FFBP's range profiles ({P} x {nfft}) and polar grids ({len(levels)} levels, up to "
                  f"{gib(max(lay.grid_bytes))} a level), their range sampling widened {widen:.3g}x for the "
                  f"sub-images' spectrum, and the {grid.azimuth.size} x {grid.range.size} image",
@@ -855,7 +1010,6 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     er = np.ascontiguousarray(plane.range, np.float64)
     lam_min = SPEED_OF_LIGHT / float(freq[-1])
     nx, ny = grid.azimuth.size, grid.range.size
-    prof, rp0, _, _ = range_profiles(ph, freq, oversample_range * widen, np.asarray(range_window, np.float64))
     tu = interpolation_table(ANGLE_TAPS, oversample_angle)
     # the leaves read the pulses' profiles (the pulse's band); the merges and the last step the
     # sub-images (their band widened by ``widen``)
@@ -883,7 +1037,7 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
             pool[level % 2] = np.empty(size, np.complex64)
         return pool[level % 2][:size].reshape(shape)
 
-    G = grid_buffer(0, (len(groups), int(nu.max()), int(nr.max())))
+    G = grid_buffer(0, (len(groups), int(nu.max()), nfft if lay.fft_leaves else int(nr.max())))
     first = np.array([a for a, _ in groups], np.int64)
     count = np.array([b - a for a, b in groups], np.int64)
     rho = np.linalg.norm(centres - o, axis=1)
@@ -895,8 +1049,14 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     x_max = float(np.max(np.linalg.norm(q, axis=1))) if q.size else 0.0
     r_min = float(np.min(r0))
     series = SERIES and r_min > 0 and 5.0 * x_max ** 4 / (2.0 * r_min) ** 3 * 4.0 * math.pi / lam_min < 1e-5
-    _leaf_kernel(prof.view(np.float32), rp0, 1.0 / dr, positions, ref_range, qrel, w, first, count, centres, o, ea,
-                 er, u0, du, nu, r0, dr, nr, cyc_per_m, tl, G, series, _chunks())
+    if lay.fft_leaves:
+        _fft_leaves(ph, range_window, dr, ref_range, qrel, w, first, count, centres, o, ea, er, u0, du, nu, r0,
+                    nr, cyc_per_m, G)
+    else:
+        prof, rp0, _, _ = range_profiles(ph, freq, oversample_range * widen, np.asarray(range_window, np.float64))
+        _leaf_kernel(prof.view(np.float32), rp0, 1.0 / dr, positions, ref_range, qrel, w, first, count, centres, o,
+                     ea, er, u0, du, nu, r0, dr, nr, cyc_per_m, tl, G, series, _chunks())
+        prof = None
     samples = [int((nu * nr).sum())]
     done += 1
     if progress:

@@ -154,6 +154,32 @@ def _rotate(vr, vi, cyc):
 
 
 @njit(cache=True, fastmath=True, inline="always", error_model="numpy")
+def _line_start(o, ea, er, cen, r0, dr, n, u):
+    """Where the polar line of direction cosine ``u`` from ``cen`` (ranges r0 + k dr, k < n) enters
+    the plane: its first index lo (n: never), h^2 (the squared distance from ``cen`` to the plane's
+    line along ea through the foot of ``cen``), w = 1 - u^2 and the foot's point oa (the line's
+    point at range r is oa + r u ea + sqrt(r^2 w - h^2) er)."""
+    d0 = o[0] - cen[0]
+    d1 = o[1] - cen[1]
+    d2 = o[2] - cen[2]
+    da = d0 * ea[0] + d1 * ea[1] + d2 * ea[2]
+    dg = d0 * er[0] + d1 * er[1] + d2 * er[2]
+    h2 = d0 * d0 + d1 * d1 + d2 * d2 - da * da - dg * dg
+    w = 1.0 - u * u
+    oa0 = o[0] - da * ea[0] - dg * er[0]
+    oa1 = o[1] - da * ea[1] - dg * er[1]
+    oa2 = o[2] - da * ea[2] - dg * er[2]
+    if w <= 0.0:
+        return n, h2, w, oa0, oa1, oa2
+    lo = 0
+    if h2 > 0.0:
+        lo = max(0, int(math.ceil((math.sqrt(h2 / w) - r0) / dr)))
+        while lo < n and (r0 + lo * dr) ** 2 * w < h2:
+            lo += 1
+    return min(lo, n), h2, w, oa0, oa1, oa2
+
+
+@njit(cache=True, fastmath=True, inline="always", error_model="numpy")
 def _polar_line(o, ea, er, cen, r0, dr, n, u, X0, X1, X2, rl):
     """The plane points of one polar line (direction cosine u along ea, ranges r0 + k dr from
     ``cen``, on the far side of ``cen`` along er) written into ``X0, X1, X2`` and their ranges into
@@ -164,29 +190,13 @@ def _polar_line(o, ea, er, cen, r0, dr, n, u, X0, X1, X2, rl):
     plane's line along ea through the foot of ``cen``: from a range found in closed form on, so
     the loop over the line has no branch and vectorises.
     """
-    d0 = o[0] - cen[0]
-    d1 = o[1] - cen[1]
-    d2 = o[2] - cen[2]
-    da = d0 * ea[0] + d1 * ea[1] + d2 * ea[2]
-    dg = d0 * er[0] + d1 * er[1] + d2 * er[2]
-    h2 = d0 * d0 + d1 * d1 + d2 * d2 - da * da - dg * dg
-    w = 1.0 - u * u
-    if w <= 0.0:
-        return n, -1
-    lo = 0
-    if h2 > 0.0:
-        lo = max(0, int(math.ceil((math.sqrt(h2 / w) - r0) / dr)))
-        while lo < n and (r0 + lo * dr) ** 2 * w < h2:
-            lo += 1
+    lo, h2, w, oa0, oa1, oa2 = _line_start(o, ea, er, cen, r0, dr, n, u)
     if lo >= n:
         return n, -1
     x0 = X0[lo:]
     x1 = X1[lo:]
     x2 = X2[lo:]
     rr = rl[lo:]
-    oa0 = o[0] - da * ea[0] - dg * er[0]
-    oa1 = o[1] - da * ea[1] - dg * er[1]
-    oa2 = o[2] - da * ea[2] - dg * er[2]
     for q in range(n - lo):
         r = r0 + (lo + q) * dr
         rr[q] = r
@@ -451,3 +461,149 @@ def _range_pass(fr_b, n, h2, j_lo, j_hi, span, tr, sn_b, cs_b, acc2, t2):
         vi = tz[2 * q + 1]
         a2[2 * q] += vr * cv[q] - vi * sv[q]
         a2[2 * q + 1] += vr * sv[q] + vi * cv[q]
+
+
+#: Frequencies a block of the FFT leaves' phase ramps (:func:`_leaf_spectra`): the ramp is a table of
+#: this many phasors times one a block, so that a frequency costs one complex product, not a sin/cos.
+RAMP_BLOCK = 64
+
+
+@njit(cache=True, fastmath=True, error_model="numpy")
+def _ramp_tables(start, step, cyc0, wp, n_hi, t_hi_re, t_hi_im, t_lo_re, t_lo_im):
+    """The phasors exp(j 2 pi (cyc0 + (start + m) step)) of m = RAMP_BLOCK h + l as the products of
+    two tables: ``t_hi`` (times ``wp``) for h < ``n_hi``, ``t_lo`` for l < RAMP_BLOCK, each phase
+    formed and reduced to [-0.5, 0.5] cycles in float64 (one loop), then its sin and cos in float32
+    (another: both vectorise)."""
+    for hh in range(n_hi):
+        t_hi_im[hh] = _reduced(cyc0 + (start + RAMP_BLOCK * hh) * step)
+    for ll in range(RAMP_BLOCK):
+        t_lo_im[ll] = _reduced(ll * step)
+    for hh in range(n_hi):
+        s, c = _sincos_cycles(t_hi_im[hh])
+        t_hi_re[hh] = c * wp
+        t_hi_im[hh] = s * wp
+    for ll in range(RAMP_BLOCK):
+        s, c = _sincos_cycles(t_lo_im[ll])
+        t_lo_re[ll] = c
+        t_lo_im[ll] = s
+
+
+@njit(parallel=True, nogil=True, cache=True, fastmath=True, error_model="numpy")
+def _leaf_spectra(are, aim, M, ref, qrel, weight, first, count, cen, o, ea, er, u0, du, nu, r0, dr, nr, cyc_per_m,
+                  j0, NU, spec, lims, chunks):
+    """The FFT leaves' first step (``are``, ``aim``: the pulses' windowed spectra, M frequencies
+    padded with zeros to a multiple of :data:`RAMP_BLOCK`): for each polar line of jobs ``j0`` ..
+    ``j0 + len(spec) - 1`` (job s NU + iu: leaf s, line iu), into its row of ``spec`` (float32,
+    interleaved, nfft complex values) the range spectrum whose inverse FFT (``norm="forward"``) is
+    the leaf's baseband sum along the line at ranges r0[s] + i dr (a row of zeros where there is no
+    line).
+
+    Each pulse p's range profile is read at rho = r + delta_p - R_ref,p, delta_p = |x - p| - |x - c|
+    (the pulse's range against the leaf centre's, taken at the line's middle point: along a line
+    it changes by less than the caller's bound, :func:`salkit.focus.ffbp.leaf_shift_spread`), so
+    its contribution is its windowed spectrum A_p(m) times exp(j 2 pi (beta_m (r0 + delta_p -
+    R_ref,p) + k (delta_p - (R_ref,p - rho_c)))), beta_m = (m - M//2) / (nfft dr) and k the
+    cycles a metre at f_c: a sum over the pulses for each frequency, then one transform a line,
+    with no interpolation of profiles. ``lims[j]`` gets the first and last index of the line
+    inside the plane and inside every pulse's profile (none: last < first).
+    """
+    L, nfft2 = spec.shape
+    nfft = nfft2 // 2
+    h = M // 2
+    step = 1.0 / (nfft * dr)
+    n_hi = are.shape[1] // RAMP_BLOCK
+    n_chunks = max(1, min(L, chunks))
+    for ch in prange(n_chunks):
+        g_re = np.empty(n_hi * RAMP_BLOCK, np.float32)
+        g_im = np.empty(n_hi * RAMP_BLOCK, np.float32)
+        t_hi_re = np.empty(n_hi, np.float32)
+        t_hi_im = np.empty(n_hi, np.float32)
+        t_lo_re = np.empty(RAMP_BLOCK, np.float32)
+        t_lo_im = np.empty(RAMP_BLOCK, np.float32)
+        for jj in range(ch * L // n_chunks, (ch + 1) * L // n_chunks):
+            job = j0 + jj
+            s = job // NU
+            iu = job % NU
+            lims[jj, 0] = 0
+            lims[jj, 1] = -1
+            row = spec[jj]
+            u = u0[s] + iu * du[s]
+            n = nr[s]
+            lo, h2, w, oa0, oa1, oa2 = _line_start(o, ea, er, cen[s], r0[s], dr, n, u)
+            if iu >= nu[s] or lo >= n:  # no line: its row is transformed all the same
+                for k in range(nfft2):
+                    row[k] = np.float32(0.0)
+                continue
+            rm = r0[s] + 0.5 * (lo + n - 1) * dr  # the line's middle point
+            t = math.sqrt(max(rm * rm * w - h2, 0.0))
+            e0 = oa0 + rm * u * ea[0] + t * er[0] - cen[s, 0]
+            e1 = oa1 + rm * u * ea[1] + t * er[1] - cen[s, 1]
+            e2 = oa2 + rm * u * ea[2] + t * er[2] - cen[s, 2]
+            rc = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
+            for m in range(g_re.shape[0]):
+                g_re[m] = np.float32(0.0)
+                g_im[m] = np.float32(0.0)
+            off_lo = np.inf
+            off_hi = -np.inf
+            for p in range(first[s], first[s] + count[s]):
+                q0 = qrel[p, 0]
+                q1 = qrel[p, 1]
+                q2 = qrel[p, 2]
+                num = 2.0 * (q0 * e0 + q1 * e1 + q2 * e2) + qrel[p, 3]  # |x - p|^2 - |x - c|^2
+                f0 = e0 + q0
+                f1 = e1 + q1
+                f2 = e2 + q2
+                dlt = num / (math.sqrt(f0 * f0 + f1 * f1 + f2 * f2) + rc)
+                D = r0[s] + dlt - ref[p]  # rho of the line's first sample
+                off = D / dr + nfft // 2  # its profile bin
+                off_lo = min(off_lo, off)
+                off_hi = max(off_hi, off)
+                _ramp_tables(-h, step * D, cyc_per_m * (dlt - qrel[p, 4]), weight[p], n_hi, t_hi_re, t_hi_im,
+                             t_lo_re, t_lo_im)
+                for hh in range(n_hi):
+                    tr = t_hi_re[hh]
+                    ti = t_hi_im[hh]
+                    b = hh * RAMP_BLOCK
+                    # slices from 0 (no index that numba must check for wraparound): one vector loop
+                    ar = are[p, b:b + RAMP_BLOCK]
+                    ai = aim[p, b:b + RAMP_BLOCK]
+                    gr = g_re[b:b + RAMP_BLOCK]
+                    gi = g_im[b:b + RAMP_BLOCK]
+                    for m in range(RAMP_BLOCK):
+                        wr = tr * t_lo_re[m] - ti * t_lo_im[m]
+                        wi = tr * t_lo_im[m] + ti * t_lo_re[m]
+                        gr[m] += ar[m] * wr - ai[m] * wi
+                        gi[m] += ar[m] * wi + ai[m] * wr
+            for m in range(h, M):  # frequency m at bin (m - h) mod nfft
+                row[2 * (m - h)] = g_re[m]
+                row[2 * (m - h) + 1] = g_im[m]
+            for k in range(2 * (M - h), 2 * (nfft - h)):
+                row[k] = np.float32(0.0)
+            for m in range(h):
+                row[2 * (nfft - h + m)] = g_re[m]
+                row[2 * (nfft - h + m) + 1] = g_im[m]
+            # the points whose every pulse reads its profile where the interpolating leaves would
+            # (eight taps inside the profile)
+            first_in = max(lo, int(math.ceil(3.0 - off_lo)))
+            last_in = min(n - 1, int(math.ceil(nfft - 4.0 - off_hi)) - 1)
+            lims[jj, 0] = first_in
+            lims[jj, 1] = last_in
+
+
+@njit(parallel=True, nogil=True, cache=True, error_model="numpy")
+def _leaf_clip(lines, lims):
+    """The FFT leaves' last step: each transformed line of ``lines`` (complex64 (L, nfft), in place)
+    zero outside its ``lims`` (first and last index kept; none where last < first)."""
+    L, n = lines.shape
+    for jj in prange(L):
+        row = lines[jj]
+        a = min(max(lims[jj, 0], 0), n)
+        b = min(lims[jj, 1], n - 1)
+        if b < a:
+            a = b = n
+        else:
+            b += 1
+        for k in range(a):
+            row[k] = 0j
+        for k in range(b, n):
+            row[k] = 0j
