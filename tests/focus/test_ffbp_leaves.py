@@ -176,3 +176,19 @@ def test_fft_leaves_layout_holds_lines_of_the_profile_length():
     S = len(lay.levels[0][0])
     assert lay.fft_leaves and lay.grid_bytes[0] == 8.0 * S * int(lay.grids[0][2].max()) * lay.nfft
     assert lay.nfft >= int(lay.grids[0][4].max())
+
+
+def test_fft_leaves_beyond_the_memory_left_are_refused_naming_the_spectra():
+    """The FFT leaves' layout is what FFBP sizes before any work: beyond the memory this process may
+    still use it refuses, naming the pulses' spectra it would hold (not range profiles it would not)."""
+    from salkit.errors import ResourceError
+    from salkit.resources import set_limit
+    ph, ig, _, _ = _seed_case("5km", 64)
+    P, M = ph.data.shape
+    set_limit(2 ** 19)
+    try:
+        with pytest.raises(ResourceError, match=rf"FFBP's pulses' spectra \({P} x {M}\) and polar grids"):
+            _form(ph, ig)
+    finally:
+        set_limit(None)
+    assert np.isfinite(_form(ph, ig)[0]).all()

@@ -469,6 +469,13 @@ class Layout(NamedTuple):
     image_bytes: float
     fft_leaves: bool = False
 
+    def inputs(self, pulses: int, frequencies: int) -> str:
+        """What the leaves read, for messages: the range profiles (pulses x FFT length) or, with FFT
+        leaves, the pulses' spectra (pulses x frequencies)."""
+        if self.fft_leaves:
+            return f"pulses' spectra ({pulses} x {frequencies})"
+        return f"range profiles ({pulses} x {self.nfft})"
+
     @property
     def peak(self) -> float:
         """Peak bytes: the profiles, twice while they are transformed, then beside them the two grid
@@ -1000,7 +1007,7 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     lay = _layout(positions, freq, grid, w, leaf, factor, oversample_angle, oversample_range)
     levels, widen, nfft, dr, grids = lay.levels, lay.widen, lay.nfft, lay.dr, lay.grids
     leaf = max(b - a for a, b in levels[0][0])
-    check_memory(lay.peak, f"FFBP's range profiles ({P} x {nfft}) and polar grids ({len(levels)} levels, up to "
+    check_memory(lay.peak, f"FFBP's {lay.inputs(P, M)} and polar grids ({len(levels)} levels, up to "
                  f"{gib(max(lay.grid_bytes))} a level), their range sampling widened {widen:.3g}x for the "
                  f"sub-images' spectrum, and the {grid.azimuth.size} x {grid.range.size} image",
                  "use --algorithm bp, a smaller grid, fewer pulses or a narrower aperture")
@@ -1129,7 +1136,7 @@ def _ffbp_in_parts(parts, ph, freq, positions, ref_range, grid, azimuth_window, 
     kind, a, b = parts[k]
     lay = needs[k][1]
     what = (f"direct backprojection of {b - a} pulses" if lay is None else
-            f"range profiles ({b - a} x {lay.nfft}) and polar grids ({len(lay.levels)} levels, up to "
+            f"{lay.inputs(b - a, freq.size)} and polar grids ({len(lay.levels)} levels, up to "
             f"{gib(max(lay.grid_bytes))} a level), their range sampling widened {lay.widen:.3g}x,")
     check_memory(8.0 * nx * ny + needs[k][0],
                  f"FFBP of {len(positions)} pulses in {len(parts)} parts of up to {PART_SPAN_DEG:g} degrees around "
