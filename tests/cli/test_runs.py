@@ -41,6 +41,15 @@ def test_simulate_then_focus_with_other_algorithm(tmp_path, scen):
     assert salkit("info", scen).returncode == 0
 
 
+def test_simulate_refuses_an_out_file_it_could_not_read_back(tmp_path, scen):
+    """``simulate --out raw`` wrote a NetCDF file without a suffix, which ``focus`` then refused
+    ("unknown suffix ''"): it is refused before any work, naming the suffixes and an example."""
+    r = salkit("simulate", scen, "--out", tmp_path / "raw")
+    assert r.returncode == 2 and "Traceback" not in r.stderr
+    assert "--out" in r.stderr and ".nc" in r.stderr and "raw.nc" in r.stderr
+    assert not (tmp_path / "raw").exists()
+
+
 @pytest.mark.parametrize("args,needle", [
     (["--set", "waveform.bandwidth=-1"], "waveform.bandwidth"),
     (["--set", "waveform.prf=2e5"], "duty cycle"),

@@ -35,10 +35,13 @@ def _grid(nx, ny, dx, dy, plane):
         raise ScenarioError(f"--{f['loc'][0]}", f.get("input"), f["msg"]) from None
 
 
-def _check_out_file(path: Path, overwrite: bool, field: str = "--out") -> None:
+def _check_out_file(path: Path, overwrite: bool, field: str = "--out", suffixes: tuple = ()) -> None:
     from ..errors import ScenarioError
     if str(path).strip() in ("", "."):
         raise ScenarioError(field, str(path), "must name a file")
+    if suffixes and path.suffix.lower() not in suffixes:  # a file salkit could not read back
+        raise ScenarioError(field, str(path), f"must end in {', '.join(suffixes)} (the file is NetCDF; salkit reads "
+                                              f"it back by its suffix): e.g. {path.with_suffix('.nc').name}")
     if path.is_dir():
         raise ScenarioError(field, str(path), "is a folder; give a file name")
     if path.exists() and not overwrite:

@@ -59,7 +59,8 @@ def simulate(scenario: Path = typer.Argument(..., metavar="SCENARIO.yaml", help=
     from ..simulate import simulate as sim
     from ..simulate.echoes import memory_estimate, signal_shape
     from ..simulate.sal import simulate_to_file
-    _check_out_file(out, overwrite)
+    from ..io.formats import NETCDF_SUFFIXES
+    _check_out_file(out, overwrite, suffixes=NETCDF_SUFFIXES)
     sc = load_scenario(scenario, list(set_))
     apply_memory_limit(memory_limit)
     if workers is not None or scheduler is not None:

@@ -11,6 +11,8 @@ from .reading import read_raw, scenario_hint
 from .gotcha import read_gotcha
 
 PHASE_SUFFIXES = {".nc": "NetCDF", ".h5": "NetCDF", ".cphd": "CPHD", ".mat": "GOTCHA .mat"}
+#: Suffixes read as salkit NetCDF/HDF5 (what ``salkit simulate`` may write).
+NETCDF_SUFFIXES = (".nc", ".h5", ".nc4", ".hdf5")
 
 
 def read_phase_data(path, lazy: bool = False) -> "_xr.Dataset":
@@ -39,7 +41,7 @@ def read_phase_data(path, lazy: bool = False) -> "_xr.Dataset":
         return read_cphd(path, lazy=lazy)
     if suf == ".mat":
         return read_gotcha(path)
-    if suf in (".nc", ".h5", ".nc4", ".hdf5"):
+    if suf in NETCDF_SUFFIXES:
         return read_raw(path, lazy=lazy)
     raise _E(f"{path}: unknown suffix {suf!r}; salkit reads {', '.join(PHASE_SUFFIXES)}{scenario_hint(path)}")
 
