@@ -39,13 +39,13 @@ def _check_out_file(path: Path, overwrite: bool, field: str = "--out", suffixes:
     from ..errors import ScenarioError
     if str(path).strip() in ("", "."):
         raise ScenarioError(field, str(path), "must name a file")
-    if suffixes and path.suffix.lower() not in suffixes:  # a file salkit could not read back
-        raise ScenarioError(field, str(path), f"must end in {', '.join(suffixes)} (the file is NetCDF; salkit reads "
-                                              f"it back by its suffix): e.g. {path.with_suffix('.nc').name}")
     if path.is_dir():
         raise ScenarioError(field, str(path), "is a folder; give a file name")
     if path.exists() and not overwrite:
         raise ScenarioError(field, str(path), "exists; pass --overwrite to replace it")
+    if suffixes and path.suffix.lower() not in suffixes:  # a file salkit could not read back
+        raise ScenarioError(field, str(path), f"must end in {', '.join(suffixes)} (the file is NetCDF; salkit reads "
+                                              f"it back by its suffix): e.g. {path.with_suffix('.nc').name}")
 
 
 def _origin(origin: Optional[str]):
