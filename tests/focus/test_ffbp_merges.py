@@ -10,6 +10,7 @@ from salkit.focus.ffbp import ffbp
 from salkit.focus.ffbp_leaves import least_squares_weights, polynomial_weights
 from salkit.focus.ffbp_merges import _angle_cut_row, _row_range_pass
 from salkit.focus.formers import ImageGrid
+from salkit.focus.profiles import symmetric_coefficients
 from salkit.simulate.testbeds import wide_angle
 
 from .test_ffbp import CASES, _error_db, _images
@@ -83,6 +84,7 @@ def test_row_range_pass_equals_float64_interpolation_at_each_pixel():
     rng = np.random.default_rng(4)
     nb, os_ = 1200, 2.0
     cr = polynomial_weights(8, os_)
+    crs = symmetric_coefficients(cr, 0.0).astype(np.float32)  # the eight-pixel path's form of them
     j_lo, j_hi = 40, 1150
     cut = (rng.standard_normal(j_hi + 1 - j_lo) + 1j * rng.standard_normal(j_hi + 1 - j_lo)).astype(np.complex64)
     h2 = np.zeros(2 * nb, np.float32)
@@ -101,7 +103,7 @@ def test_row_range_pass_equals_float64_interpolation_at_each_pixel():
         w = least_squares_weights(8, os_, (fr - ir)[inside])
         rows = ir[inside, None] - j_lo + np.arange(-3, 5)[None, :]
         want[inside] += np.sum(w * cut[rows], axis=1) * (cs[inside] + 1j * sn[inside])
-        _row_range_pass(fr, n, h2, j_lo, j_hi, cr, sn, cs, are, aim, np.empty(n, np.uint32),
+        _row_range_pass(fr, n, h2, j_lo, j_hi, cr, crs, sn, cs, are, aim, np.empty(n, np.uint32),
                         np.empty(n, np.float32))
         err = np.abs(are + 1j * aim - want).max() / np.abs(cut).max()
         assert err < 2e-5, (n, err)

@@ -80,3 +80,37 @@ def test_the_fitted_kernel_beats_keys_and_lagrange_at_every_upsampling():
         assert fit < want
         assert fit < _compensated_error_db(lagrange, M, M * up) - 11.0
         assert fit < _compensated_error_db(KEYS_COEFFICIENTS, M, M * up) - 20.0
+
+
+@pytest.mark.parametrize("kernel", ["keys", "fitted", "ffbp"])
+def test_symmetric_coefficients_rebuild_every_taps_weight(kernel):
+    """Each tap's weight rebuilt from its pair's even and odd parts (E + O, its mirror E - O) is the
+    weight of the kernel's own polynomial, at every fraction: Keys' cubic and a fitted kernel in t
+    about 1/2, FFBP's eight-tap degree-6 weights in s = 2t - 1 about 0."""
+    from salkit.focus.ffbp_leaves import polynomial_weights
+    from salkit.focus.profiles import KEYS_COEFFICIENTS, fitted_coefficients, symmetric_coefficients
+    c, centre = {"keys": (KEYS_COEFFICIENTS, 0.5), "fitted": (fitted_coefficients(738, 4428), 0.5),
+                 "ffbp": (polynomial_weights(8, 1.75).astype(np.float64), 0.0)}[kernel]
+    taps, n = c.shape
+    sym = symmetric_coefficients(c, centre)
+    assert sym.shape == (taps // 2 * n,)
+    x = np.linspace(centre - 0.5, centre + 0.5, 41) if centre else np.linspace(-1, 1, 41)
+    u = x - centre
+    want = np.polynomial.polynomial.polyval(x, c.T)  # (taps, nx)
+    for b in range(taps // 2):
+        e = sym[n * b:n * b + (n + 1) // 2]
+        o = sym[n * b + (n + 1) // 2:n * (b + 1)]
+        even = np.polynomial.polynomial.polyval(u * u, e)
+        odd = u * np.polynomial.polynomial.polyval(u * u, o)
+        np.testing.assert_allclose(even + odd, want[b], atol=2e-6 * np.abs(c).max())
+        np.testing.assert_allclose(even - odd, want[taps - 1 - b], atol=2e-6 * np.abs(c).max())
+
+
+def test_symmetric_coefficients_refuse_a_lopsided_kernel():
+    from salkit.focus.profiles import KEYS_COEFFICIENTS, symmetric_coefficients
+    lopsided = np.array(KEYS_COEFFICIENTS, dtype=float)
+    lopsided[0, 1] += 0.01
+    with pytest.raises(ValueError, match="not symmetric about 0.5"):
+        symmetric_coefficients(lopsided, 0.5)
+    with pytest.raises(ValueError, match="3 taps, must be even"):
+        symmetric_coefficients(np.ones((3, 4)), 0.5)

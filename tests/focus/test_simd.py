@@ -4,8 +4,8 @@ numpy (float64), to float32 rounding, lanes and all (a wrong shuffle would swap 
 import numpy as np
 from numba import njit
 
-from salkit.focus.profiles import KEYS_COEFFICIENTS, fitted_coefficients
-from salkit.focus.simd import WIDTH, linear8, taps4x8, taps8_poly7
+from salkit.focus.profiles import KEYS_COEFFICIENTS, fitted_coefficients, symmetric_coefficients
+from salkit.focus.simd import WIDTH, linear8, taps4x8, taps8_sym7
 
 
 @njit
@@ -23,7 +23,7 @@ def _taps(pc, idx, frs, ss, cs, ore, oim, cf):
 @njit
 def _taps8(pc, idx, sv, ss, cs, ore, oim, cf):
     for j in range(0, idx.size, WIDTH):
-        taps8_poly7(pc, idx, sv, ss, cs, ore, oim, j, cf)
+        taps8_sym7(pc, idx, sv, ss, cs, ore, oim, j, cf)
 
 
 def _inputs(rng, n, nb):
@@ -48,6 +48,8 @@ def test_linear8_is_linear_interpolation_rotated_and_added():
 
 
 def test_taps4x8_is_the_four_tap_kernel_rotated_and_added():
+    """Keys' cubic and a fitted kernel given as their even and odd parts about t = 1/2: the weights
+    the taps' own cubics in t give (a wrong sign or pairing would swap taps 0 and 3)."""
     rng = np.random.default_rng(6)
     n, nb = 64, 300
     prof = (rng.standard_normal(nb) + 1j * rng.standard_normal(nb)).astype(np.complex64)
@@ -57,24 +59,27 @@ def test_taps4x8_is_the_four_tap_kernel_rotated_and_added():
         w = np.vander(frs.astype(np.float64), 4, increasing=True) @ np.asarray(coefficients).T  # (n, 4)
         v = sum(w[:, q] * padded[bins + q] for q in range(4))  # padded bin b + q is bin b + q - 1
         want = (ore + 1j * oim) + v * (cs + 1j * ss)
-        cf = np.ascontiguousarray(coefficients, np.float32).ravel()
+        cf = symmetric_coefficients(coefficients, 0.5).astype(np.float32)
         _taps(padded.view(np.float32), (2 * bins).astype(np.uint32), frs, ss, cs, ore, oim, cf)
         np.testing.assert_allclose(ore + 1j * oim, want, rtol=0, atol=2e-5 * np.abs(want).max())
 
 
-def test_taps8_poly7_is_eight_taps_of_polynomial_weights_rotated_and_added():
-    """Eight complex taps from each pixel's first bin, tap b weighted by sum_d c[b, d] s^d (random
-    coefficients, so that every tap and power is distinct), the sum rotated and added."""
+def test_taps8_sym7_is_eight_symmetric_taps_of_polynomial_weights_rotated_and_added():
+    """Eight complex taps from each pixel's first bin, tap b weighted by sum_d c[b, d] s^d for a random
+    symmetric kernel (tap 7 - b at s as tap b at -s; every pair and power distinct), given as its
+    even and odd parts: the sum rotated and added."""
     rng = np.random.default_rng(7)
     n, nb = 64, 300
     src = (rng.standard_normal(nb) + 1j * rng.standard_normal(nb)).astype(np.complex64)
-    cf = rng.standard_normal((8, 7)).astype(np.float32)
+    half = rng.standard_normal((4, 7))
+    cf = np.vstack([half, half[::-1] * (-1.0) ** np.arange(7)])  # symmetric about s = 0
     bins, frs, ss, cs, ore, oim = _inputs(rng, n, nb - 8)
     sv = (2 * frs - 1).astype(np.float32)
-    w = np.vander(sv.astype(np.float64), 7, increasing=True) @ cf.astype(np.float64).T  # (n, 8)
+    w = np.vander(sv.astype(np.float64), 7, increasing=True) @ cf.T  # (n, 8)
     v = sum(w[:, b] * src[bins + b] for b in range(8))
     want = (ore + 1j * oim) + v * (cs + 1j * ss)
-    _taps8(src.view(np.float32), (2 * bins).astype(np.uint32), sv, ss, cs, ore, oim, cf.ravel())
+    _taps8(src.view(np.float32), (2 * bins).astype(np.uint32), sv, ss, cs, ore, oim,
+           symmetric_coefficients(cf, 0.0).astype(np.float32))
     np.testing.assert_allclose(ore + 1j * oim, want, rtol=0, atol=2e-5 * np.abs(want).max())
 
 

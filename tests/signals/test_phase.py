@@ -26,3 +26,23 @@ def test_sincos_cycles_polynomial_accuracy():
     assert np.max(np.abs(c - np.cos(2 * np.pi * y))) < 5e-6
     small = (np.abs(y) > 1e-4) & (np.abs(y) < 0.05)
     assert np.max(np.abs(s[small] / np.sin(2 * np.pi * y[small]) - 1)) < 2.5e-6
+
+
+def test_sincos_cycles_scaled_is_the_weighted_sin_and_cos():
+    """w sin and w cos from the folded double angle: the unweighted polynomial's values times w,
+    to float32 rounding, for weights of any size and zero."""
+    from numba import njit
+
+    from salkit.signals.phase import sincos_cycles, sincos_cycles_scaled
+
+    @njit
+    def both(y, w):
+        s, c = sincos_cycles(y)
+        ws, wc = sincos_cycles_scaled(y, w)
+        return s * w, c * w, ws, wc
+
+    for v in np.linspace(-0.5, 0.5, 101):
+        for w in (0.0, 1.0, 0.37, 250.0):
+            s, c, ws, wc = both(np.float32(v), np.float32(w))
+            assert abs(ws - s) <= 4e-7 * max(w, 1e-30) and abs(wc - c) <= 4e-7 * max(w, 1e-30)
+            assert abs(ws - w * np.sin(2 * np.pi * np.float32(v))) < 6e-6 * max(w, 1e-30)

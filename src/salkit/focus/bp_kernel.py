@@ -31,10 +31,11 @@ import scipy.fft as sfft
 from numba import njit, prange
 
 from ..geometry.ranges import range_offsets
-from ..signals.phase import sincos_cycles
+from ..signals.phase import sincos_cycles, sincos_cycles_scaled
 from ..constants import FFT_WORKERS, SPEED_OF_LIGHT
 from ..tolerances import BP_UPSAMPLE
-from .profiles import interpolation_of, pack_profiles, pad_profiles, profile_length, range_profiles
+from .profiles import (interpolation_of, pack_profiles, pad_profiles, profile_length, range_profiles,
+                       symmetric_coefficients)
 from .simd import WIDTH, linear8, taps4x8
 
 WORKERS = FFT_WORKERS
@@ -50,9 +51,7 @@ def _pixel(j, x, dR, w, cyc_per_m, idx, frs, ss, cs):
     idx[j] = np.uint32(i0) << np.uint32(1)  # (re, im) floats: 2 a bin
     frs[j] = np.float32(x - i0)
     cyc = dR * cyc_per_m
-    s, c = sincos_cycles(np.float32(cyc - np.rint(cyc)))
-    ss[j] = s * w
-    cs[j] = c * w
+    ss[j], cs[j] = sincos_cycles_scaled(np.float32(cyc - np.rint(cyc)), w)
 
 
 @njit(cache=True, inline="always", fastmath=True, error_model="numpy", boundscheck=False)
@@ -139,9 +138,7 @@ def _steps(anc, anci, fq, w, idx, frs, ss, cs):
     # the sin and cos in a loop of their own: with the steps' constants too, sixteen AVX2 registers
     # spill (10 % of the kernel's time there)
     for j in range(anci.shape[0] * SEGMENT):
-        s, c = sincos_cycles(ss[j])
-        ss[j] = s * w
-        cs[j] = c * w
+        ss[j], cs[j] = sincos_cycles_scaled(ss[j], w)
 
 
 @njit(cache=True, inline="always", fastmath=True, error_model="numpy", boundscheck=False)
@@ -149,7 +146,7 @@ def _pass2(pk, idx, frs, ss, cs, out_re, out_im, mode, cf, j_lo, j_hi):
     """Pass 2 for pixels ``j_lo`` .. ``j_hi - 1``: read the profile ``pk`` at each pixel's offset,
     interpolate (``mode``: :data:`INTERPOLATIONS`' codes; 0 linear between bins b and b + 1 of
     the interleaved profile, 1 nearest, 2 and 3 four taps on the padded interleaved profile with
-    the weights' coefficients ``cf``), rotate and accumulate; eight pixels at a time
+    the weights' coefficients ``cf``: :func:`kernel_profiles`), rotate and accumulate; eight pixels at a time
     (:mod:`salkit.focus.simd`), the last few scalar."""
     n8 = j_lo + (j_hi - j_lo) // WIDTH * WIDTH
     if mode == 0:  # linear: bins b and b + 1
@@ -174,8 +171,9 @@ def _pass2(pk, idx, frs, ss, cs, out_re, out_im, mode, cf, j_lo, j_hi):
             out_re[j] += vr * c - vi * s
             out_im[j] += vr * s + vi * c
     else:  # four taps, bins -1 .. 2 (Keys cubic, or fitted to the band)
+        sym = cf[16:]  # the kernel's even and odd parts (taps4x8)
         for j in range(j_lo, n8, WIDTH):
-            taps4x8(pk, idx, frs, ss, cs, out_re, out_im, j, cf)
+            taps4x8(pk, idx, frs, ss, cs, out_re, out_im, j, sym)
         for j in range(n8, j_hi):
             k = idx[j]
             t = frs[j]
@@ -350,8 +348,8 @@ def bp_kernel(profiles, n_bins, r0, inv_dr, pos, ref, D, row_origin, rdir, rg, c
     img_re, img_im : float32 (nx, ny), accumulated in place.
     mode : int
         Interpolation of the profiles (:data:`INTERPOLATIONS`' codes).
-    cf : float32 (16,)
-        The four-tap kernels' coefficients (tap-major), unused by the others.
+    cf : float32 (24,)
+        The four-tap kernels' coefficients (:func:`kernel_profiles`), unused by the others.
     segments : bool
         Let lines take the first pass's fast path where they fit it (:func:`segment_plan`,
         :func:`segment_fits`); False computes every pixel by the exact float64 path.
@@ -421,8 +419,11 @@ def kernel_profiles(prof: np.ndarray, interpolation: str, n_samples: int) -> tup
         Interleaved (re, im): the profiles themselves viewed as float32 (linear and nearest read
         bins b and b + 1), or padded with one bin before and two after (four taps:
         :func:`salkit.focus.profiles.pad_profiles`).
-    cf : float32 (16,)
-        The four-tap kernel's coefficients, tap-major (zeros for the others).
+    cf : float32 (24,)
+        The four-tap kernel's coefficients (zeros for the others): 16 tap-major, tap k's weight
+        sum_d cf[4 k + d] t^d (the pixels one at a time), then its 8 even and odd parts about t =
+        1/2 (:func:`salkit.focus.profiles.symmetric_coefficients`; eight pixels at a time,
+        :data:`salkit.focus.simd.taps4x8`).
 
     Examples
     --------
@@ -434,8 +435,9 @@ def kernel_profiles(prof: np.ndarray, interpolation: str, n_samples: int) -> tup
     """
     spec = interpolation_of(interpolation)
     if spec.coefficients is None:
-        return np.ascontiguousarray(prof, np.complex64).view(np.float32), np.zeros(16, np.float32)
-    cf = np.ascontiguousarray(spec.coefficients(int(n_samples), int(prof.shape[1])), np.float32).ravel()
+        return np.ascontiguousarray(prof, np.complex64).view(np.float32), np.zeros(24, np.float32)
+    c = spec.coefficients(int(n_samples), int(prof.shape[1]))
+    cf = np.concatenate([np.ravel(c), symmetric_coefficients(c, 0.5)]).astype(np.float32)
     return pad_profiles(prof), cf
 
 

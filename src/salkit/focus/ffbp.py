@@ -85,7 +85,7 @@ from ..constants import FFT_WORKERS, SPEED_OF_LIGHT
 from ..errors import ScenarioError
 from ..resources import check_memory, gib
 from ..signals.windows import Window
-from .profiles import profile_sampling, range_profiles
+from .profiles import profile_sampling, range_profiles, symmetric_coefficients
 from .formers import Accuracy, ImageGrid, ImageResult, Sizes, register_former
 from .phasehistory import PhaseHistory
 from ..tolerances import BP_DEFAULT_UPSAMPLE, BP_UPSAMPLE
@@ -1088,9 +1088,10 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     az, rg = np.asarray(grid.azimuth, np.float64), np.asarray(grid.range, np.float64)
     res = np.array([rho_residual(o, c, r) for c, r in zip(centres, rho)])
     if _rows_in_order(o, er, centres, rg):
+        cr = polynomial_weights(range_taps, os_sub)
         _final_rows(G.view(np.float32), u0, du, nu, r0, nr, centres, rho, res, dr, o, ea, er, az, rg, cyc_per_m,
-                    polynomial_weights(ANGLE_TAPS, oversample_angle), polynomial_weights(range_taps, os_sub),
-                    img, _chunks())
+                    polynomial_weights(ANGLE_TAPS, oversample_angle), cr,
+                    symmetric_coefficients(cr, 0.0).astype(np.float32), img, _chunks())
     else:
         _final_kernel(G, u0, du, nu, r0, nr, centres, rho, res, dr, o, ea, er, az, rg, cyc_per_m, tu, tr, img)
     if spare is not None:  # the image alone keeps its buffer: shrunk in place (realloc), no copy

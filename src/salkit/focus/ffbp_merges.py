@@ -11,7 +11,7 @@ from numba import njit, prange
 
 from .ffbp_leaves import (RAMP2, SEG_FRACTION, SEG_MAX, _angle_at, _line_scratch, _polar_line, _range_pass, _reduced,
                           _rotate, _segment_end, _sincos_pass, _sincos_reduced, _tap_range)
-from .simd import WIDTH, taps8_poly7, wide_vectors
+from .simd import WIDTH, taps8_sym7, wide_vectors
 
 #: Taps of the angular interpolation (the range one has 6).
 ANGLE_TAPS = 8
@@ -366,15 +366,17 @@ def _angle_cut_row(Gf, c, nuc, along, r0c, dr, u0c, inv_du, j_lo, j_hi, cp, h2, 
 
 
 @njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
-def _row_range_pass(fr_b, n, h2, j_lo, j_hi, cr, sn_b, cs_b, acc_re, acc_im, idx, sv):
+def _row_range_pass(fr_b, n, h2, j_lo, j_hi, cr, crs, sn_b, cs_b, acc_re, acc_im, idx, sv):
     """Interpolate a cut (``h2``: float32 (re, im) interleaved, bins j_lo .. j_hi) in range at each
     pixel's bin position ``fr_b`` (increasing), rotate by (cs, sn) and add to ``acc_re, acc_im``;
     pixels whose taps leave j_lo .. j_hi are skipped. For an image row, whose pixels step about
     one bin each, so that the fraction changes at every pixel: the weights are evaluated at each
     pixel from their polynomials ``cr`` (taps, degree + 1) in s = 2 t - 1
     (:func:`~salkit.focus.ffbp_leaves.polynomial_weights`), eight pixels at a time in vector
-    registers for eight taps and degree 6 (:data:`~salkit.focus.simd.taps8_poly7`), the rest one
-    by one. ``idx`` (uint32) and ``sv`` (float32) are scratch of at least ``n``.
+    registers for eight taps and degree 6 (:data:`~salkit.focus.simd.taps8_sym7`, from the
+    kernel's even and odd parts ``crs``: :func:`~salkit.focus.profiles.symmetric_coefficients`
+    of ``cr`` about s = 0), the rest one by one. ``idx`` (uint32) and ``sv`` (float32) are
+    scratch of at least ``n``.
     """
     taps = cr.shape[0]
     nc = cr.shape[1]
@@ -387,10 +389,9 @@ def _row_range_pass(fr_b, n, h2, j_lo, j_hi, cr, sn_b, cs_b, acc_re, acc_im, idx
         sv[k] = np.float32(2.0 * (fr - ir) - 1.0)
     k = k_lo
     if taps == 8 and nc == 7:
-        cf = cr.ravel()
         n8 = k_lo + (k_hi + 1 - k_lo) // WIDTH * WIDTH
         for j in range(k_lo, n8, WIDTH):
-            taps8_poly7(h2, idx, sv, sn_b, cs_b, acc_re, acc_im, j, cf)
+            taps8_sym7(h2, idx, sv, sn_b, cs_b, acc_re, acc_im, j, crs)
         k = n8
     for j in range(k, k_hi + 1):
         s = sv[j]
@@ -408,7 +409,7 @@ def _row_range_pass(fr_b, n, h2, j_lo, j_hi, cr, sn_b, cs_b, acc_re, acc_im, idx
 
 
 @njit(parallel=True, nogil=True, cache=True, fastmath=True, error_model="numpy")
-def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, cres, dr_child, o, ea, er, az, rg, cyc_per_m, cp, cr, out,
+def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, cres, dr_child, o, ea, er, az, rg, cyc_per_m, cp, cr, crs, out,
                 chunks):
     """Every remaining sub-image interpolated onto the output grid row by row, separably (as a
     merge: a row along the range axis crosses each child's range bins in order when every child
@@ -416,7 +417,8 @@ def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, cres, dr_child, o, ea, 
     the row in angle at the child's range bins (:func:`_angle_cut_row`), then that cut in range at
     every pixel (:func:`_row_range_pass`), its phase k (|x - c| - rho_c) restored from small
     quantities (:func:`_image_cycles`; ``cres`` = |o - c| - rho_c, computed exactly by the
-    caller). ``cp``, ``cr``: the angle and range weights' polynomials."""
+    caller). ``cp``, ``cr``: the angle and range weights' polynomials; ``crs``: the range weights'
+    even and odd parts (:func:`_row_range_pass`)."""
     nx, ny = out.shape
     n_bins = Gf.shape[2] // 2
     n_chunks = max(1, min(nx, chunks))
@@ -457,6 +459,6 @@ def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, cres, dr_child, o, ea, 
                 along = a0 * ea[0] + a1 * ea[1] + a2 * ea[2] + az[i]  # (x - c).e_a on the whole row
                 _angle_cut_row(Gf, c, cnu[c], along, cr0[c], dr_child, cu0[c], 1.0 / cdu[c], j_lo, j_hi, cp, h2, fb,
                                s2)
-                _row_range_pass(fr_b, ny, h2, j_lo, j_hi, cr, sn_b, cs_b, acc_re, acc_im, idx, sv)
+                _row_range_pass(fr_b, ny, h2, j_lo, j_hi, cr, crs, sn_b, cs_b, acc_re, acc_im, idx, sv)
             for k in range(ny):
                 out[i, k] = complex(acc_re[k], acc_im[k])

@@ -6,6 +6,7 @@ the profiles are formed (the largest part of an interpolation's error).
 from __future__ import annotations
 
 import functools
+import math
 from dataclasses import dataclass
 from typing import Callable
 
@@ -304,6 +305,66 @@ def fitted_coefficients(M: int, nfft: int) -> np.ndarray:
     c = np.linalg.lstsq(a, b, rcond=None)[0].reshape(4, 4)
     c.setflags(write=False)
     return c
+
+
+#: Largest asymmetry :func:`symmetric_coefficients` accepts, relative to the largest coefficient
+#: (float32 storage's rounding, 6e-8, with room; the kernels are symmetric by construction).
+SYMMETRY_TOLERANCE = 1e-5
+
+
+def symmetric_coefficients(coefficients: np.ndarray, centre: float) -> np.ndarray:
+    """A symmetric kernel's weights as the even and odd parts of its pairs of taps, in u = x - ``centre``.
+
+    A kernel of ``taps`` weights, tap b weighing sum_d c[b, d] x^d at the fraction x, is symmetric
+    about ``centre`` when tap ``taps - 1 - b`` at u weighs as tap b at -u. Tap b's weight is then
+    E_b(u) + O_b(u) and its mirror's E_b(u) - O_b(u), E_b even and O_b odd in u: each a polynomial
+    in u^2, half the multiply-adds of the taps' own polynomials (:mod:`salkit.focus.simd`).
+
+    Parameters
+    ----------
+    coefficients : float (taps, n)
+        Tap b's weight sum_d coefficients[b, d] x^d; ``taps`` even.
+    centre : float
+        The fraction about which the kernel is symmetric (1/2 for x = t the fraction past a bin,
+        0 for x = 2 t - 1).
+
+    Returns
+    -------
+    float64 (taps // 2 * n,)
+        For each pair b = 0 .. taps/2 - 1, n values: E_b's coefficients of u^0, u^2, ..., then
+        O_b's of u^1, u^3, ... (symmetrised: each the mean of the pair's two).
+
+    Raises
+    ------
+    ValueError
+        If the kernel is not symmetric about ``centre`` within :data:`SYMMETRY_TOLERANCE` of its
+        largest coefficient.
+
+    Examples
+    --------
+    >>> c = symmetric_coefficients(KEYS_COEFFICIENTS, 0.5)
+    >>> u = 0.3 - 0.5
+    >>> even, odd = c[0] + c[1] * u ** 2, u * (c[2] + c[3] * u ** 2)
+    >>> w0 = np.polynomial.polynomial.polyval(0.3, KEYS_COEFFICIENTS[0])
+    >>> bool(abs(even + odd - w0) < 1e-12)
+    True
+    """
+    c = np.asarray(coefficients, np.float64)
+    taps, n = c.shape
+    if taps % 2:
+        raise ValueError(f"coefficients: {taps} taps, must be even")
+    # x^d = (u + centre)^d = sum_e comb(d, e) centre^(d - e) u^e
+    binomial = np.array([[math.comb(d, e) * centre ** (d - e) if e <= d else 0.0 for e in range(n)]
+                         for d in range(n)])
+    a = c @ binomial  # coefficients in u
+    mirror = a[::-1] * (-1.0) ** np.arange(n)  # tap taps-1-b at u as tap b at -u
+    scale = np.abs(a).max()
+    asym = np.abs(a - mirror).max()
+    if asym > SYMMETRY_TOLERANCE * scale:
+        raise ValueError(f"coefficients: kernel not symmetric about {centre}: its mirrored taps differ by "
+                         f"{asym:.3g}, more than {SYMMETRY_TOLERANCE:g} of its largest coefficient {scale:.3g}")
+    a = 0.5 * (a + mirror)
+    return np.concatenate([np.concatenate([a[b, 0::2], a[b, 1::2]]) for b in range(taps // 2)])
 
 
 def _fitted_gain(m: np.ndarray, nfft: int) -> np.ndarray:

@@ -161,16 +161,29 @@ def linear8(typingctx, pc, idx, frs, ss, cs, out_re, out_im, j):
     return sig, codegen
 
 
-def _taps_poly(taps: int, n_coef: int):
-    """An intrinsic for pass 2 of a ``taps``-tap interpolation (a multiple of 4) whose weights are
-    polynomials of ``n_coef`` coefficients in s: ``taps_poly(pc, idx, s, ss, cs, out_re, out_im,
-    j, cf)`` reads ``2 taps`` floats (``taps`` complex bins) at ``idx[j + l]`` of ``pc`` for the
-    eight pixels l = 0..7, weighs tap b by sum_d cf[n_coef b + d] s^d (Horner) and adds the
-    rotated sum to the accumulators."""
+def _horner(builder, cfp, first, count, x):
+    """sum_i cf[first + i] x^i over ``count`` coefficients (Horner), ``x`` an <8 x float>."""
+    c = [_splat(builder, builder.load(builder.gep(cfp, [ir.Constant(_I64, first + i)]))) for i in range(count)]
+    w = c[count - 1]
+    for i in range(count - 2, -1, -1):
+        w = builder.fadd(c[i], builder.fmul(x, w))
+    return w
+
+
+def _taps_symmetric(taps: int, n_coef: int, shift: float):
+    """An intrinsic for pass 2 of a ``taps``-tap interpolation (a multiple of 4) whose kernel is
+    symmetric (tap ``taps - 1 - b`` at u weighs as tap b at -u, u = s - ``shift``) and whose weights
+    are polynomials of ``n_coef`` coefficients in u: ``taps_sym(pc, idx, s, ss, cs, out_re, out_im,
+    j, cf)``. Each pair of taps (b, taps - 1 - b) is weighed E_b(u) +- O_b(u), its even and odd
+    parts (:func:`salkit.focus.profiles.symmetric_coefficients`: ``cf[n_coef b:n_coef (b + 1)]``
+    the even part's coefficients of u^0, u^2, ... then the odd part's of u^1, u^3, ...), both
+    polynomials in u^2: half the multiply-adds and coefficient loads of the taps' own polynomials."""
     blocks = taps // 4
+    n_even = (n_coef + 1) // 2
+    n_odd = n_coef // 2
 
     @intrinsic
-    def taps_poly(typingctx, pc, idx, ss_frac, ss, cs, out_re, out_im, j, cf):
+    def taps_sym(typingctx, pc, idx, ss_frac, ss, cs, out_re, out_im, j, cf):
         sig = types.void(pc, idx, ss_frac, ss, cs, out_re, out_im, j, cf)
 
         def codegen(context, builder, signature, args):
@@ -182,16 +195,20 @@ def _taps_poly(taps: int, n_coef: int):
             for h in range(blocks):  # eight floats (four bins) of each pixel a transpose
                 base = builder.gep(pcp, [ir.Constant(_I64, 8 * h)])
                 cols += transpose8(builder, _gather_rows(builder, base, offsets, _V8F))
-            s = _load(builder, fp, jj, _V8F)
+            u = _load(builder, fp, jj, _V8F)
+            if shift:
+                u = builder.fsub(u, _splat(builder, ir.Constant(_F32, shift)))
+            u2 = builder.fmul(u, u)
+            weights = [None] * taps
+            for b in range(taps // 2):
+                even = _horner(builder, cfp, n_coef * b, n_even, u2)
+                odd = builder.fmul(u, _horner(builder, cfp, n_coef * b + n_even, n_odd, u2))
+                weights[b] = builder.fadd(even, odd)
+                weights[taps - 1 - b] = builder.fsub(even, odd)
             vr = vi = None
             for b in range(taps):
-                c = [_splat(builder, builder.load(builder.gep(cfp, [ir.Constant(_I64, n_coef * b + d)])))
-                     for d in range(n_coef)]
-                w = c[n_coef - 1]
-                for d in range(n_coef - 2, -1, -1):
-                    w = builder.fadd(c[d], builder.fmul(s, w))
-                r = builder.fmul(w, cols[2 * b])
-                m = builder.fmul(w, cols[2 * b + 1])
+                r = builder.fmul(weights[b], cols[2 * b])
+                m = builder.fmul(weights[b], cols[2 * b + 1])
                 vr = r if vr is None else builder.fadd(vr, r)
                 vi = m if vi is None else builder.fadd(vi, m)
             _rotate_accumulate(builder, vr, vi, sp, cp, rp, mp, jj)
@@ -199,28 +216,35 @@ def _taps_poly(taps: int, n_coef: int):
 
         return sig, codegen
 
-    return taps_poly
+    return taps_sym
 
 
-#: Pass 2 of a four-tap interpolation (weights cubic in the fraction) for the eight pixels ``j``
-#: to ``j + 7``: the backprojection kernel's Keys cubic and fitted taps
-#: (:mod:`salkit.focus.bp_kernel`).
+#: Pass 2 of a symmetric four-tap interpolation (weights cubic in the fraction) for the eight pixels
+#: ``j`` to ``j + 7``: the backprojection kernel's Keys cubic and fitted taps
+#: (:mod:`salkit.focus.bp_kernel`). The weights come from their even and odd parts about the
+#: middle of the bins (u = t - 1/2): 7 multiply-adds and 8 coefficient loads for eight pixels where
+#: the taps' own cubics take 12 and 16 (on AVX2 code, a seventh of the pass's time).
 #:
 #: Arguments ``(pc, idx, frs, ss, cs, out_re, out_im, j, cf)``: ``pc`` float32[::1] the profile as
 #: interleaved (re, im) floats, one bin of padding before and two after; ``idx`` uint32[::1] each
 #: pixel's first tap (2 x (bin - 1) + 2 = 2 x bin); ``frs, ss, cs`` float32[::1] the fraction t
 #: between bins and the weighted sine and cosine of the pixel's phase; ``out_re, out_im``
-#: float32[::1] accumulators; ``cf`` float32[::1] 16 coefficients, tap-major: tap k (bins -1, 0, 1,
-#: 2) weighs sum_d cf[4 k + d] t^d.
-taps4x8 = _taps_poly(4, 4)
+#: float32[::1] accumulators; ``cf`` float32[::1] 8 coefficients
+#: (:func:`salkit.focus.profiles.symmetric_coefficients` of the taps' cubics in t, centre 1/2): taps
+#: 0 and 3 (bins -1 and 2) weigh (cf[0] + cf[1] u^2) +- u (cf[2] + cf[3] u^2), taps 1 and 2 (bins
+#: 0 and 1) the same with cf[4:8].
+taps4x8 = _taps_symmetric(4, 4, 0.5)
 
 
-#: Pass 2 of eight taps with degree-6 polynomial weights (FFBP's range interpolation onto image
-#: rows: :func:`salkit.focus.ffbp_merges._row_range_pass`), eight pixels at a time.
+#: Pass 2 of eight symmetric taps with degree-6 polynomial weights in s = 2 t - 1 (FFBP's range
+#: interpolation onto image rows: :func:`salkit.focus.ffbp_merges._row_range_pass`), eight pixels at
+#: a time, the weights from the four pairs' even and odd parts (33 multiply-adds and 28 coefficient
+#: loads for eight pixels where the taps' own polynomials take 48 and 56).
 #:
 #: Arguments ``(pc, idx, s, ss, cs, out_re, out_im, j, cf)``: ``pc`` float32[::1] the source as
 #: interleaved (re, im) floats; ``idx`` uint32[::1] each pixel's first float (its first tap);
 #: ``s`` float32[::1] the weights' argument; ``ss, cs`` the weighted sine and cosine of each
 #: pixel's phase; ``out_re, out_im`` float32[::1] accumulators; ``j`` the first of eight pixels;
-#: ``cf`` float32[::1] 8 x 7 coefficients, tap-major.
-taps8_poly7 = _taps_poly(8, 7)
+#: ``cf`` float32[::1] 4 x 7 coefficients (:func:`salkit.focus.profiles.symmetric_coefficients` of
+#: the taps' polynomials, centre 0).
+taps8_sym7 = _taps_symmetric(8, 7, 0.0)
