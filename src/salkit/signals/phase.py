@@ -18,6 +18,18 @@ COS_PI = (0.9999999403953552, -4.934792995452881, 4.058412075042725, -1.33188021
 
 
 @njit(cache=True, inline="always", fastmath=True)
+def _half_angle(y):
+    """sin(pi y) and cos(pi y) for y in [-0.5, 0.5] (float32): the minimax polynomials
+    :data:`SIN_PI` and :data:`COS_PI`."""
+    y2 = y * y
+    s = y * (np.float32(SIN_PI[0]) + y2 * (np.float32(SIN_PI[1]) + y2 * (np.float32(SIN_PI[2])
+                                                                          + y2 * np.float32(SIN_PI[3]))))
+    c = np.float32(COS_PI[0]) + y2 * (np.float32(COS_PI[1]) + y2 * (np.float32(COS_PI[2]) + y2 * (
+        np.float32(COS_PI[3]) + y2 * np.float32(COS_PI[4]))))
+    return s, c
+
+
+@njit(cache=True, inline="always", fastmath=True)
 def sincos_cycles(y):
     """sin and cos of 2 pi y for y in [-0.5, 0.5] cycles, float32 polynomial (|error| < 5e-6): the
     argument is reduced to cycles in float64 by the caller, so phases of any size stay exact.
@@ -35,11 +47,7 @@ def sincos_cycles(y):
     (float32, float32)
         sin, cos.
     """
-    y2 = y * y
-    s = y * (np.float32(SIN_PI[0]) + y2 * (np.float32(SIN_PI[1]) + y2 * (np.float32(SIN_PI[2])
-                                                                          + y2 * np.float32(SIN_PI[3]))))
-    c = np.float32(COS_PI[0]) + y2 * (np.float32(COS_PI[1]) + y2 * (np.float32(COS_PI[2]) + y2 * (
-        np.float32(COS_PI[3]) + y2 * np.float32(COS_PI[4]))))
+    s, c = _half_angle(y)
     s2 = s + s
     return s2 * c, np.float32(1.0) - s2 * s
 
@@ -62,11 +70,7 @@ def sincos_cycles_scaled(y, w):
     (float32, float32)
         w sin, w cos.
     """
-    y2 = y * y
-    s = y * (np.float32(SIN_PI[0]) + y2 * (np.float32(SIN_PI[1]) + y2 * (np.float32(SIN_PI[2])
-                                                                          + y2 * np.float32(SIN_PI[3]))))
-    c = np.float32(COS_PI[0]) + y2 * (np.float32(COS_PI[1]) + y2 * (np.float32(COS_PI[2]) + y2 * (
-        np.float32(COS_PI[3]) + y2 * np.float32(COS_PI[4]))))
+    s, c = _half_angle(y)
     s2 = s * (w + w)
     return s2 * c, w - s2 * s
 
