@@ -1022,8 +1022,8 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     # sub-images (their band widened by ``widen``)
     os_sub = nfft / M / widen
     tr = interpolation_table(range_taps, os_sub)
-    try:
-        tl = interpolation_table(LEAF_TAPS, nfft / M)
+    try:  # the interpolating leaves' kernel (the FFT leaves read no profiles)
+        tl = None if lay.fft_leaves else interpolation_table(LEAF_TAPS, nfft / M)
     except np.linalg.LinAlgError:  # sampled so far above the band that no kernel fits it
         raise ScenarioError("processing.algorithm", "ffbp",
                             f"these {P} pulses' sub-images spread over {widen:.3g} times the pulse's band in range "
