@@ -167,15 +167,30 @@ def test_curved_tracks_keep_the_interpolating_leaves():
     assert 0.9 * bound <= spread2 <= 1.01 * bound
 
 
-def test_fft_leaves_layout_holds_lines_of_the_profile_length():
-    """The FFT leaves' grid buffer holds each line a whole profile period long (they are transformed
-    in place), and the layout's bytes say so."""
+def test_fft_leaves_layout_holds_each_line_once_and_one_batch_of_transforms():
+    """The FFT leaves' grid buffer holds each line's own points (as the interpolating leaves'), the
+    lines transformed a batch at a time in a scratch of the FFT length: the layout's bytes say so."""
     import salkit.focus.ffbp as F
     ph, ig, _, _ = _seed_case("5km", 64)
     lay = F.ffbp_layout(ph.positions, ph.freq, ig)
-    S = len(lay.levels[0][0])
-    assert lay.fft_leaves and lay.grid_bytes[0] == 8.0 * S * int(lay.grids[0][2].max()) * lay.nfft
-    assert lay.nfft >= int(lay.grids[0][4].max())
+    S, nu, nr = len(lay.levels[0][0]), int(lay.grids[0][2].max()), int(lay.grids[0][4].max())
+    assert lay.fft_leaves and lay.grid_bytes[0] == 8.0 * S * nu * nr
+    P, M = ph.data.shape
+    spectra = 8.0 * P * (-(-M // F.RAMP_BLOCK) * F.RAMP_BLOCK)
+    assert lay.profile_bytes == spectra + 8.0 * min(S * nu, F.FFT_LEAF_BATCH) * lay.nfft
+    assert lay.nfft >= nr
+
+
+def test_fft_leaves_in_any_batch_are_the_same_image(monkeypatch):
+    """Lines transformed a few at a time (batches ending inside a leaf, a last batch part full) give
+    the image of the default batch: each line lands in its own row of the grid."""
+    import salkit.focus.ffbp as F
+    ph, ig, _, _ = _seed_case("5km", 64)
+    img = _form(ph, ig)[0]
+    monkeypatch.setattr(F, "FFT_LEAF_BATCH", 7)
+    small = _form(ph, ig)[0]
+    assert F.ffbp_layout(ph.positions, ph.freq, ig).fft_leaves
+    assert np.max(np.abs(small - img)) <= 1e-6 * np.max(np.abs(img))
 
 
 def test_fft_leaves_beyond_the_memory_left_are_refused_naming_the_spectra():
@@ -192,3 +207,18 @@ def test_fft_leaves_beyond_the_memory_left_are_refused_naming_the_spectra():
     finally:
         set_limit(None)
     assert np.isfinite(_form(ph, ig)[0]).all()
+
+
+def test_leaf_store_keeps_each_lines_span_and_zeros_the_rest():
+    """A transformed line's first points into its shorter row, zero outside its kept span (first and
+    last index kept; a span past the row clipped to it; none where last < first)."""
+    from salkit.focus.ffbp_leaves import _leaf_store
+    lines = (np.arange(4 * 10) + 1j).astype(np.complex64).reshape(4, 10)
+    lims = np.array([[2, 4], [0, 12], [5, 3], [-3, 0]], np.int64)
+    out = np.full((4, 6), 99.0 + 0j, np.complex64)
+    _leaf_store(lines, lims, out)
+    want = np.zeros((4, 6), np.complex64)
+    want[0, 2:5] = lines[0, 2:5]
+    want[1, :] = lines[1, :6]
+    want[3, :1] = lines[3, :1]
+    assert np.array_equal(out, want)

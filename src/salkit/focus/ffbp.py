@@ -116,6 +116,9 @@ FFT_LEAF_PULSES = 32
 #: of the pulses' spectra with their range ramps, exact, instead of the interpolated range profiles
 #: (tests switch it off to compare).
 FFT_LEAVES = True
+#: Polar lines the FFT leaves transform together (:func:`_fft_leaves`), in a scratch of that many
+#: rows of the FFT length (17 MB at 8232 points): the leaves' grid holds each line's own points only.
+FFT_LEAF_BATCH = 256
 #: Largest phase, rad at the highest frequency, by which a pulse's range against its leaf's centre
 #: may move along a polar line for the FFT leaves (they take it constant along the line): 1e-4 rad,
 #: an error floor near -80 dB.
@@ -145,8 +148,8 @@ MAX_PART_WIDENING = 4.0
 MIN_SIDE = 32
 
 
-from .ffbp_leaves import (RAMP_BLOCK, _chunks, _leaf_clip, _leaf_kernel, _leaf_spectra, interpolation_table,
-                          polynomial_weights)
+from .ffbp_leaves import (RAMP_BLOCK, _chunks, _leaf_kernel, _leaf_spectra, interpolation_table,
+                          _leaf_store, polynomial_weights)
 from .ffbp_merges import ANGLE_TAPS, _final_kernel, _final_rows, _merge_kernel
 
 
@@ -452,7 +455,7 @@ class Layout(NamedTuple):
         Each level's grid buffer, bytes (complex64, the largest sub-image's shape for all).
     profile_bytes : float
         The range profiles, bytes (complex64, pulses x nfft; with FFT leaves the pulses' spectra,
-        pulses x frequencies).
+        pulses x frequencies, and the transforms of :data:`FFT_LEAF_BATCH` lines, each nfft long).
     image_bytes : float
         The output image, bytes (complex64).
     fft_leaves : bool
@@ -570,12 +573,13 @@ def fft_leaves_fit(spans: list, centres: np.ndarray, grids, positions: np.ndarra
 
 
 def _fft_leaves(ph, range_window, dr, ref_range, qrel, w, first, count, centres, o, ea, er, u0, du, nu, r0, nr,
-                cyc_per_m, G, batch: int = 256) -> None:
-    """The leaves by FFT into ``G`` (complex64 (S, NU, nfft): a line a row of the profiles' FFT
-    length): for each polar line the pulses' windowed spectra summed with the phase ramps of their
-    ranges (:func:`salkit.focus.ffbp_leaves._leaf_spectra`) and transformed in place, ``batch``
-    lines at a time; exact where :func:`fft_leaves_fit` holds, with no range profiles and no
-    interpolation."""
+                cyc_per_m, nfft, G) -> None:
+    """The leaves by FFT into ``G`` (complex64 (S, NU, NR): a line a row, NR its longest length):
+    for each polar line the pulses' windowed spectra summed with the phase ramps of their ranges
+    (:func:`salkit.focus.ffbp_leaves._leaf_spectra`) and transformed in place in a scratch of
+    :data:`FFT_LEAF_BATCH` rows of the profiles' FFT length ``nfft``, whose first NR points are kept
+    (:func:`salkit.focus.ffbp_leaves._leaf_store`); exact where :func:`fft_leaves_fit` holds,
+    with no range profiles and no interpolation."""
     P, M = ph.shape
     wr = np.asarray(range_window, np.float32)
     padded = -(-M // RAMP_BLOCK) * RAMP_BLOCK
@@ -583,18 +587,18 @@ def _fft_leaves(ph, range_window, dr, ref_range, qrel, w, first, count, centres,
     aim = np.zeros((P, padded), np.float32)
     np.multiply(ph.real, wr, out=are[:, :M], casting="same_kind")
     np.multiply(ph.imag, wr, out=aim[:, :M], casting="same_kind")
-    S, NU, nfft = G.shape
-    lines = G.reshape(S * NU, nfft)
-    lims = np.empty((min(S * NU, batch), 2), np.int64)
+    S, NU, NR = G.shape
+    lines = G.reshape(S * NU, NR)
+    batch = FFT_LEAF_BATCH
+    scratch = np.empty((min(S * NU, batch), nfft), np.complex64)
+    lims = np.empty((scratch.shape[0], 2), np.int64)
     for j0 in range(0, S * NU, batch):
-        blk = lines[j0:j0 + batch]
-        n = blk.shape[0]
+        n = min(batch, S * NU - j0)
+        blk = scratch[:n]
         _leaf_spectra(are, aim, M, ref_range, qrel, w, first, count, centres, o, ea, er, u0, du, nu, r0, dr, nr,
                       cyc_per_m, j0, NU, blk.view(np.float32), lims[:n], _chunks())
         out = sfft.ifft(blk, axis=1, norm="forward", workers=FFT_WORKERS, overwrite_x=True)
-        if not np.shares_memory(out, blk):  # pragma: no cover - scipy transforms a contiguous block in place
-            blk[...] = out
-        _leaf_clip(blk, lims[:n])
+        _leaf_store(out, lims[:n], lines[j0:j0 + n])
 
 
 def _check_in_front(leaves, grid: ImageGrid) -> None:
@@ -849,9 +853,10 @@ def _layout(positions: np.ndarray, freq: np.ndarray, grid: ImageGrid, w: np.ndar
             break
     grids = [leaves] + [polar_grids(spans, cen, dr) for spans, cen, _, _ in levels[1:]]
     nbytes = [8.0 * len(lv[0]) * int(g[2].max()) * int(g[4].max()) for lv, g in zip(levels, grids)]
-    if fft:  # the leaves' lines a period of the profiles long; the pulses' spectra instead of profiles
-        nbytes[0] = 8.0 * len(levels[0][0]) * int(grids[0][2].max()) * nfft
-    inputs = 8.0 * P * (-(-freq.size // RAMP_BLOCK) * RAMP_BLOCK if fft else nfft)
+    inputs = 8.0 * P * nfft
+    if fft:  # the pulses' spectra instead of profiles, and a batch of lines a transform long
+        lines = len(levels[0][0]) * int(grids[0][2].max())
+        inputs = 8.0 * P * (-(-freq.size // RAMP_BLOCK) * RAMP_BLOCK) + 8.0 * min(lines, FFT_LEAF_BATCH) * nfft
     return Layout(levels, widen, nfft, dr, grids, nbytes, inputs, 8.0 * grid.azimuth.size * grid.range.size, fft)
 
 
@@ -1044,7 +1049,7 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
             pool[level % 2] = np.empty(size, np.complex64)
         return pool[level % 2][:size].reshape(shape)
 
-    G = grid_buffer(0, (len(groups), int(nu.max()), nfft if lay.fft_leaves else int(nr.max())))
+    G = grid_buffer(0, (len(groups), int(nu.max()), int(nr.max())))
     first = np.array([a for a, _ in groups], np.int64)
     count = np.array([b - a for a, b in groups], np.int64)
     rho = np.linalg.norm(centres - o, axis=1)
@@ -1058,7 +1063,7 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     series = SERIES and r_min > 0 and 5.0 * x_max ** 4 / (2.0 * r_min) ** 3 * 4.0 * math.pi / lam_min < 1e-5
     if lay.fft_leaves:
         _fft_leaves(ph, range_window, dr, ref_range, qrel, w, first, count, centres, o, ea, er, u0, du, nu, r0,
-                    nr, cyc_per_m, G)
+                    nr, cyc_per_m, nfft, G)
     else:
         prof, rp0, _, _ = range_profiles(ph, freq, oversample_range * widen, np.asarray(range_window, np.float64))
         _leaf_kernel(prof.view(np.float32), rp0, 1.0 / dr, positions, ref_range, qrel, w, first, count, centres, o,
