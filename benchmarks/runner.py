@@ -39,6 +39,27 @@ def machine() -> dict:
             "python": platform.python_version(), "numpy": np.__version__}
 
 
+def cpu_ticks() -> tuple[int, int] | None:
+    """The machine's CPU time stolen by the hypervisor and its total CPU time so far, in clock ticks
+    (``/proc/stat``; None where there is none): a virtual machine's figures move with what its
+    host's other guests take, and a benchmark says how much that was while it ran."""
+    try:
+        fields = Path("/proc/stat").read_text().splitlines()[0].split()
+    except (OSError, IndexError):
+        return None
+    if fields[0] != "cpu" or len(fields) < 9:
+        return None
+    ticks = [int(v) for v in fields[1:]]
+    return ticks[7], sum(ticks[:8])  # steal; user, nice, system, idle, iowait, irq, softirq, steal
+
+
+def steal_percent(before, after) -> float | None:
+    """Percent of the CPUs' time the hypervisor took between two :func:`cpu_ticks` readings."""
+    if before is None or after is None or after[1] <= before[1]:
+        return None
+    return 100.0 * (after[0] - before[0]) / (after[1] - before[1])
+
+
 def main(names=None) -> dict:
     """Run the named benchmarks (all of :data:`ORDER` when none), print and store their figures.
 
@@ -61,10 +82,14 @@ def main(names=None) -> dict:
     print(f"machine: {info['machine']}, {info['cpus']} CPUs, {info['avx']}")
     for name in names:
         fn = getattr(importlib.import_module(name), f"bench_{name}")
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), cpu_ticks()
         r = fn()
+        steal = steal_percent(c0, cpu_ticks())
+        if steal is not None:
+            r[f"{name}_steal_percent"] = steal
         res.update(r)
-        print(f"== {name} ({time.perf_counter() - t0:.1f} s)")
+        took = "" if steal is None else f"; the hypervisor took {steal:.1f} % of the CPUs' time"
+        print(f"== {name} ({time.perf_counter() - t0:.1f} s{took})")
         for k, v in r.items():
             print(f"   {k:<34} {v:.4g}" if isinstance(v, float) else f"   {k:<34} {v}")
     out = HERE / "last_run.json"
