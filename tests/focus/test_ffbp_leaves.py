@@ -167,14 +167,18 @@ def test_curved_tracks_keep_the_interpolating_leaves():
     assert 0.9 * bound <= spread2 <= 1.01 * bound
 
 
-def test_fft_leaves_layout_holds_each_line_once_and_one_batch_of_transforms():
-    """The FFT leaves' grid buffer holds each line's own points (as the interpolating leaves'), the
-    lines transformed a batch at a time in a scratch of the FFT length: the layout's bytes say so."""
+def test_fft_leaves_layout_holds_each_line_once_and_one_batch_of_transforms(monkeypatch):
+    """The FFT leaves' grid buffer holds each line's own points (as the interpolating leaves'), one
+    parent's leaves at a time (all of them without that), the lines transformed a batch at a time in
+    a scratch of the FFT length: the layout's bytes say so."""
     import salkit.focus.ffbp as F
     ph, ig, _, _ = _seed_case("5km", 64)
     lay = F.ffbp_layout(ph.positions, ph.freq, ig)
     S, nu, nr = len(lay.levels[0][0]), int(lay.grids[0][2].max()), int(lay.grids[0][4].max())
-    assert lay.fft_leaves and lay.grid_bytes[0] == 8.0 * S * nu * nr
+    assert lay.fft_leaves and len(lay.levels) > 1
+    assert lay.grid_bytes[0] == 8.0 * lay.levels[1][3] * nu * nr  # a parent's leaves at a time
+    monkeypatch.setattr(F, "FUSED_LEAVES", False)
+    assert F.ffbp_layout(ph.positions, ph.freq, ig).grid_bytes[0] == 8.0 * S * nu * nr  # all the leaves
     P, M = ph.data.shape
     spectra = 8.0 * P * (-(-M // F.RAMP_BLOCK) * F.RAMP_BLOCK)
     assert lay.profile_bytes == spectra + 8.0 * min(S * nu, F.FFT_LEAF_BATCH) * lay.nfft
@@ -207,6 +211,17 @@ def test_fft_leaves_beyond_the_memory_left_are_refused_naming_the_spectra():
     finally:
         set_limit(None)
     assert np.isfinite(_form(ph, ig)[0]).all()
+
+
+def test_fft_leaves_a_parent_at_a_time_are_all_the_leaves_then_merged(monkeypatch):
+    """Leaves formed and merged a parent at a time (the default) give the image of all the leaves
+    formed first and merged after, the same sums in the same order: bit for bit."""
+    import salkit.focus.ffbp as F
+    ph, ig, _, _ = _seed_case("200km", 64, "ground")
+    img, info = _form(ph, ig)
+    assert F.ffbp_layout(ph.positions, ph.freq, ig).fft_leaves and info["ffbp_levels"] > 2
+    monkeypatch.setattr(F, "FUSED_LEAVES", False)
+    assert np.array_equal(_form(ph, ig)[0], img)
 
 
 def test_leaf_store_keeps_each_lines_span_and_zeros_the_rest():

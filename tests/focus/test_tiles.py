@@ -96,7 +96,9 @@ def _ffbp_need(raw, sc, **grid):
 
 def test_tiled_ffbp_has_no_seam(scene):
     """Against direct backprojection at high accuracy: the tiled FFBP image is as accurate as the
-    whole one, and its error within 3 pixels of a tile border is no more than 1 dB above elsewhere."""
+    whole one, and its error within 3 pixels of a tile border is no more than 1 dB further above its
+    error elsewhere than the whole image's is in the same bands (the targets' sidelobes put more or
+    less error in any band: 1.1 dB more in the bands of the 8-tile plan, untiled)."""
     sc, raw = scene
     ref = focus(raw, sc.processing, algorithm="bp", accuracy="high")["image"].values
     whole = focus(raw, sc.processing, algorithm="ffbp")["image"].values
@@ -112,7 +114,9 @@ def test_tiled_ffbp_has_no_seam(scene):
     for j in range(t.attrs["tile_ny"], e.shape[1], t.attrs["tile_ny"]):
         border[:, j - 3:j + 3] = True
     assert 0.05 < border.mean() < 0.5
-    assert 10 * np.log10(e[border].mean() / e[~border].mean()) < 1.0
+    ew = np.abs(whole - ref) ** 2
+    excess = 10 * np.log10(e[border].mean() / e[~border].mean())
+    assert excess - 10 * np.log10(ew[border].mean() / ew[~border].mean()) < 1.0
 
 
 def test_image_written_tile_by_tile_into_a_chunked_file(scene, tmp_path):

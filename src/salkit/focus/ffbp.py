@@ -116,6 +116,9 @@ FFT_LEAF_PULSES = 32
 #: of the pulses' spectra with their range ramps, exact, instead of the interpolated range profiles
 #: (tests switch it off to compare).
 FFT_LEAVES = True
+#: Form the FFT leaves a parent's at a time, each parent's merged at once (:func:`_fused_leaves`):
+#: the leaves' grid is never held whole (tests switch it off to compare).
+FUSED_LEAVES = True
 #: Polar lines the FFT leaves transform together (:func:`_fft_leaves`), in a scratch of that many
 #: rows of the FFT length (17 MB at 8232 points): the leaves' grid holds each line's own points only.
 FFT_LEAF_BATCH = 256
@@ -572,14 +575,9 @@ def fft_leaves_fit(spans: list, centres: np.ndarray, grids, positions: np.ndarra
     return 4.0 * math.pi * float(freq[-1]) / SPEED_OF_LIGHT * spread <= FFT_LEAF_TOLERANCE
 
 
-def _fft_leaves(ph, range_window, dr, ref_range, qrel, w, first, count, centres, o, ea, er, u0, du, nu, r0, nr,
-                cyc_per_m, nfft, G) -> None:
-    """The leaves by FFT into ``G`` (complex64 (S, NU, NR): a line a row, NR its longest length):
-    for each polar line the pulses' windowed spectra summed with the phase ramps of their ranges
-    (:func:`salkit.focus.ffbp_leaves._leaf_spectra`) and transformed in place in a scratch of
-    :data:`FFT_LEAF_BATCH` rows of the profiles' FFT length ``nfft``, whose first NR points are kept
-    (:func:`salkit.focus.ffbp_leaves._leaf_store`); exact where :func:`fft_leaves_fit` holds,
-    with no range profiles and no interpolation."""
+def _leaf_inputs(ph, range_window) -> tuple[np.ndarray, np.ndarray]:
+    """The FFT leaves' inputs: the pulses' windowed spectra, real and imaginary parts apart
+    (float32 (P, M') each, M frequencies padded with zeros to a multiple of :data:`RAMP_BLOCK`)."""
     P, M = ph.shape
     wr = np.asarray(range_window, np.float32)
     padded = -(-M // RAMP_BLOCK) * RAMP_BLOCK
@@ -587,6 +585,18 @@ def _fft_leaves(ph, range_window, dr, ref_range, qrel, w, first, count, centres,
     aim = np.zeros((P, padded), np.float32)
     np.multiply(ph.real, wr, out=are[:, :M], casting="same_kind")
     np.multiply(ph.imag, wr, out=aim[:, :M], casting="same_kind")
+    return are, aim
+
+
+def _fft_leaves(are, aim, M, dr, ref_range, qrel, w, first, count, centres, o, ea, er, u0, du, nu, r0, nr,
+                cyc_per_m, nfft, G) -> None:
+    """The leaves by FFT into ``G`` (complex64 (S, NU, NR): a line a row, NR its longest length;
+    the leaves those of ``first``, ``count``, ``centres`` and the grids, S of them): for each polar
+    line the pulses' windowed spectra (:func:`_leaf_inputs`, M frequencies) summed with the phase
+    ramps of their ranges (:func:`salkit.focus.ffbp_leaves._leaf_spectra`) and transformed in
+    place in a scratch of :data:`FFT_LEAF_BATCH` rows of the profiles' FFT length ``nfft``, whose
+    first NR points are kept (:func:`salkit.focus.ffbp_leaves._leaf_store`); exact where
+    :func:`fft_leaves_fit` holds, with no range profiles and no interpolation."""
     S, NU, NR = G.shape
     lines = G.reshape(S * NU, NR)
     batch = FFT_LEAF_BATCH
@@ -599,6 +609,31 @@ def _fft_leaves(ph, range_window, dr, ref_range, qrel, w, first, count, centres,
                       cyc_per_m, j0, NU, blk.view(np.float32), lims[:n], _chunks())
         out = sfft.ifft(blk, axis=1, norm="forward", workers=FFT_WORKERS, overwrite_x=True)
         _leaf_store(out, lims[:n], lines[j0:j0 + n])
+
+
+def _fused_leaves(scratch, out, factor, leaves, children, parent, dr, o, ea, er, cyc_per_m, tu, tr) -> None:
+    """The FFT leaves and the first merge together, a parent at a time: parent s's ``factor``
+    leaves (children s factor ..) formed by :func:`_fft_leaves` into ``scratch`` (complex64
+    (factor, NU, NR)) and merged at once into ``out[s]`` by the merge kernel, so that the leaves'
+    grid is never held whole (a thirtieth of it at 4096^2) and each parent reads its children where
+    they were just written.
+
+    ``leaves`` = (first, count, qrel, are, aim, M, ref_range, w, nfft); ``children`` = (u0, du, nu,
+    r0, nr, centres, rho) of the leaves; ``parent`` = (centres, rho, u0, du, nu, r0, nr) of the
+    first merge's sub-images."""
+    first, count, qrel, are, aim, M, ref_range, w, nfft = leaves
+    u0, du, nu, r0, nr, centres, rho = children
+    pcen, prho, pu0, pdu, pnu, pr0, pnr = parent
+    n_child = first.shape[0]
+    for s in range(pcen.shape[0]):
+        a, b = s * factor, min(s * factor + factor, n_child)
+        G = scratch[:b - a]
+        _fft_leaves(are, aim, M, dr, ref_range, qrel, w, first[a:b], count[a:b], centres[a:b], o, ea, er, u0[a:b],
+                    du[a:b], nu[a:b], r0[a:b], nr[a:b], cyc_per_m, nfft, G)
+        p = slice(s, s + 1)
+        _merge_kernel(G.view(np.float32), u0[a:b], du[a:b], nu[a:b], r0[a:b], nr[a:b], centres[a:b], rho[a:b], dr,
+                      factor, o, ea, er, pcen[p], prho[p], pu0[p], pdu[p], pnu[p], pr0[p], dr, pnr[p], cyc_per_m, tu,
+                      tr, out[p], _chunks())
 
 
 def _check_in_front(leaves, grid: ImageGrid) -> None:
@@ -857,6 +892,8 @@ def _layout(positions: np.ndarray, freq: np.ndarray, grid: ImageGrid, w: np.ndar
     if fft:  # the pulses' spectra instead of profiles, and a batch of lines a transform long
         lines = len(levels[0][0]) * int(grids[0][2].max())
         inputs = 8.0 * P * (-(-freq.size // RAMP_BLOCK) * RAMP_BLOCK) + 8.0 * min(lines, FFT_LEAF_BATCH) * nfft
+        if len(levels) > 1 and FUSED_LEAVES:  # formed a parent's leaves at a time (_fused_leaves)
+            nbytes[0] = 8.0 * levels[1][3] * int(grids[0][2].max()) * int(grids[0][4].max())
     return Layout(levels, widen, nfft, dr, grids, nbytes, inputs, 8.0 * grid.azimuth.size * grid.range.size, fft)
 
 
@@ -1049,7 +1086,10 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
             pool[level % 2] = np.empty(size, np.complex64)
         return pool[level % 2][:size].reshape(shape)
 
-    G = grid_buffer(0, (len(groups), int(nu.max()), int(nr.max())))
+    # FFT leaves beneath a merge are formed a parent at a time, into a buffer of one parent's
+    # children, and merged at once (:func:`_fused_leaves`): the leaves' grid is never whole
+    fused = lay.fft_leaves and len(levels) > 1 and FUSED_LEAVES
+    G = grid_buffer(0, (levels[1][3] if fused else len(groups), int(nu.max()), int(nr.max())))
     first = np.array([a for a, _ in groups], np.int64)
     count = np.array([b - a for a, b in groups], np.int64)
     rho = np.linalg.norm(centres - o, axis=1)
@@ -1062,23 +1102,36 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     r_min = float(np.min(r0))
     series = SERIES and r_min > 0 and 5.0 * x_max ** 4 / (2.0 * r_min) ** 3 * 4.0 * math.pi / lam_min < 1e-5
     if lay.fft_leaves:
-        _fft_leaves(ph, range_window, dr, ref_range, qrel, w, first, count, centres, o, ea, er, u0, du, nu, r0,
-                    nr, cyc_per_m, nfft, G)
+        are, aim = _leaf_inputs(ph, range_window)
+        if not fused:
+            _fft_leaves(are, aim, M, dr, ref_range, qrel, w, first, count, centres, o, ea, er, u0, du, nu, r0, nr,
+                        cyc_per_m, nfft, G)
+            are = aim = None
     else:
         prof, rp0, _, _ = range_profiles(ph, freq, oversample_range * widen, np.asarray(range_window, np.float64))
         _leaf_kernel(prof.view(np.float32), rp0, 1.0 / dr, positions, ref_range, qrel, w, first, count, centres, o,
                      ea, er, u0, du, nu, r0, dr, nr, cyc_per_m, tl, G, series, _chunks())
         prof = None
     samples = [int((nu * nr).sum())]
-    done += 1
-    if progress:
-        progress(done, n_levels)
+    if not fused:
+        done += 1
+        if progress:
+            progress(done, n_levels)
     # merge `factor` at a time, the last merge by two, until two sub-images remain for the final step
     for (spans, pcen, _, f_level), (pu0, pdu, pnu, pr0, pnr) in zip(levels[1:], grids[1:]):
-        out = grid_buffer(done, (len(spans), int(pnu.max()), int(pnr.max())))
+        out = grid_buffer(done + 1 if fused and done == 0 else done, (len(spans), int(pnu.max()), int(pnr.max())))
         prho = np.linalg.norm(pcen - o, axis=1)
-        _merge_kernel(G.view(np.float32), u0, du, nu, r0, nr, centres, rho, dr, f_level, o, ea, er, pcen, prho, pu0,
-                      pdu, pnu, pr0, dr, pnr, cyc_per_m, tu, tr, out, _chunks())
+        if fused and done == 0:  # the leaves, a parent's at a time, each parent's merged at once
+            _fused_leaves(G, out, f_level, (first, count, qrel, are, aim, M, ref_range, w, nfft),
+                          (u0, du, nu, r0, nr, centres, rho), (pcen, prho, pu0, pdu, pnu, pr0, pnr), dr, o, ea, er,
+                          cyc_per_m, tu, tr)
+            are = aim = None  # the spectra freed before the next level's buffer is faulted in
+            done += 1
+            if progress:
+                progress(done, n_levels)
+        else:
+            _merge_kernel(G.view(np.float32), u0, du, nu, r0, nr, centres, rho, dr, f_level, o, ea, er, pcen, prho,
+                          pu0, pdu, pnu, pr0, dr, pnr, cyc_per_m, tu, tr, out, _chunks())
         G, centres, rho = out, pcen, prho
         u0, du, nu, r0, nr = pu0, pdu, pnu, pr0, pnr
         samples.append(int((nu * nr).sum()))
