@@ -611,6 +611,12 @@ def _fft_leaves(are, aim, M, dr, ref_range, qrel, w, first, count, centres, o, e
         _leaf_store(out, lims[:n], lines[j0:j0 + n])
 
 
+def _fuses_leaves(fft_leaves: bool, levels: list) -> bool:
+    """Whether FFBP forms its leaves a parent's at a time (:func:`_fused_leaves`): FFT leaves with a
+    merge after them, and :data:`FUSED_LEAVES`."""
+    return fft_leaves and len(levels) > 1 and FUSED_LEAVES
+
+
 def _fused_leaves(scratch, out, factor, leaves, children, parent, dr, o, ea, er, cyc_per_m, tu, tr) -> None:
     """The FFT leaves and the first merge together, a parent at a time: parent s's ``factor``
     leaves (children s factor ..) formed by :func:`_fft_leaves` into ``scratch`` (complex64
@@ -892,7 +898,7 @@ def _layout(positions: np.ndarray, freq: np.ndarray, grid: ImageGrid, w: np.ndar
     if fft:  # the pulses' spectra instead of profiles, and a batch of lines a transform long
         lines = len(levels[0][0]) * int(grids[0][2].max())
         inputs = 8.0 * P * (-(-freq.size // RAMP_BLOCK) * RAMP_BLOCK) + 8.0 * min(lines, FFT_LEAF_BATCH) * nfft
-        if len(levels) > 1 and FUSED_LEAVES:  # formed a parent's leaves at a time (_fused_leaves)
+        if _fuses_leaves(fft, levels):  # formed a parent's leaves at a time
             nbytes[0] = 8.0 * levels[1][3] * int(grids[0][2].max()) * int(grids[0][4].max())
     return Layout(levels, widen, nfft, dr, grids, nbytes, inputs, 8.0 * grid.azimuth.size * grid.range.size, fft)
 
@@ -1088,7 +1094,7 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
 
     # FFT leaves beneath a merge are formed a parent at a time, into a buffer of one parent's
     # children, and merged at once (:func:`_fused_leaves`): the leaves' grid is never whole
-    fused = lay.fft_leaves and len(levels) > 1 and FUSED_LEAVES
+    fused = _fuses_leaves(lay.fft_leaves, levels)
     G = grid_buffer(0, (levels[1][3] if fused else len(groups), int(nu.max()), int(nr.max())))
     first = np.array([a for a, _ in groups], np.int64)
     count = np.array([b - a for a, b in groups], np.int64)
@@ -1113,20 +1119,18 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
                      ea, er, u0, du, nu, r0, dr, nr, cyc_per_m, tl, G, series, _chunks())
         prof = None
     samples = [int((nu * nr).sum())]
-    if not fused:
-        done += 1
-        if progress:
-            progress(done, n_levels)
+    done += 1
+    if progress and not fused:  # fused: the leaves are done with the first merge
+        progress(done, n_levels)
     # merge `factor` at a time, the last merge by two, until two sub-images remain for the final step
     for (spans, pcen, _, f_level), (pu0, pdu, pnu, pr0, pnr) in zip(levels[1:], grids[1:]):
-        out = grid_buffer(done + 1 if fused and done == 0 else done, (len(spans), int(pnu.max()), int(pnr.max())))
+        out = grid_buffer(done, (len(spans), int(pnu.max()), int(pnr.max())))
         prho = np.linalg.norm(pcen - o, axis=1)
-        if fused and done == 0:  # the leaves, a parent's at a time, each parent's merged at once
+        if fused and done == 1:  # the leaves, a parent's at a time, each parent's merged at once
             _fused_leaves(G, out, f_level, (first, count, qrel, are, aim, M, ref_range, w, nfft),
                           (u0, du, nu, r0, nr, centres, rho), (pcen, prho, pu0, pdu, pnu, pr0, pnr), dr, o, ea, er,
                           cyc_per_m, tu, tr)
             are = aim = None  # the spectra freed before the next level's buffer is faulted in
-            done += 1
             if progress:
                 progress(done, n_levels)
         else:
