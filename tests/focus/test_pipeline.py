@@ -277,3 +277,22 @@ def test_a_bad_memory_limit_is_named_as_the_argument():
         with pytest.raises(ScenarioError) as e:
             focus(raw, memory_limit=bad)
         assert e.value.field == "memory_limit" and words in e.value.constraint
+
+
+def test_a_grid_wider_than_the_pulse_spacing_holds_warns_before_focusing():
+    """A grid given at focus time (not checked with the scenario before the simulation) that spans
+    more azimuth than the pulses hold without ambiguity warns, with that extent: lambda R PRF / 2v
+    (4.84 m here; the data's own lambda_min / 2 dtheta within the band's 2 %); a narrower one does not."""
+    import re
+    import warnings
+    sc = parse_scenario(SPOT)
+    raw = simulate(sc)
+    theory = 1.55e-6 * 5000.0 * 25000.0 / (2 * 20.0)
+    with pytest.warns(UserWarning, match="unambiguous azimuth extent") as rec:
+        img = focus(raw, sc.processing, grid={"nx": 400, "ny": 16, "dx": 0.015, "dy": 0.015})
+    assert img["image"].shape == (400, 16)
+    said = float(re.search(r"= ([0-9.]+) m: targets would repeat", str(rec[0].message)).group(1))
+    assert said == pytest.approx(theory, rel=0.05)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        focus(raw, sc.processing, grid={"nx": 256, "ny": 16, "dx": 0.015, "dy": 0.015})

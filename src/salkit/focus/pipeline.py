@@ -13,6 +13,7 @@ import importlib
 import logging
 import pkgutil
 import sys
+import warnings
 from typing import Callable, Mapping, Optional
 
 import numpy as np
@@ -36,6 +37,7 @@ from ..tolerances import GRID_SPACING_OF_RESOLUTION
 from ..simulate.echoes import fast_time_axis, memory_estimate as simulate_memory_estimate, signal_shape
 from .downlooking import focus_downlooking_raw
 from .formers import DEFAULT_UPSAMPLE, ImageGrid, ImageResult, former_spec, get_former, upsample_bounds
+from .pfa import illuminated_extent
 from .phasehistory import PhaseHistory, default_grid, phase_history, theory_resolution
 from .tiles import DatasetPulses, Geometry, InMemoryPulses, form_tiles, memory_estimate, plan_tiling
 
@@ -340,11 +342,20 @@ def _geometry(geo: PhaseHistory, g: Grid, processing: Optional[Processing], accu
 def _grid_for(ph: PhaseHistory, grid: Grid | None, processing: Optional[Processing], plane: str | None) -> Grid:
     """The grid :func:`focus_sal` forms: the one given, the processing's, or the default for the
     data (:func:`default_grid`), in ``plane`` when one is named; refused when its spacing exceeds the
-    resolution."""
+    resolution; a warning when a spotlight grid spans more azimuth than the pulse spacing holds
+    without ambiguity (:func:`salkit.focus.pfa.illuminated_extent`, the data's limit): targets
+    would repeat in the image, as the scenario's own check warns before a simulation."""
     g = grid or (processing.grid if processing else default_grid(ph, plane=plane or "slant"))
     if plane is not None and g.plane != plane:
         g = g.model_copy(update={"plane": plane})
-    res = theory_resolution(ph, ImageGrid.of(ph, g).plane)
+    ig_plane = ImageGrid.of(ph, g).plane
+    if ph.mode != "stripmap" and ph.positions.shape[0] > 1:
+        unamb = illuminated_extent(ph.freq, ph.positions, ig_plane)["azimuth"]
+        if g.nx * g.dx > unamb * (1 + 1e-9):
+            warnings.warn(f"processing.grid spans {g.nx * g.dx:.4g} m in azimuth, more than the unambiguous "
+                          f"azimuth extent the pulse spacing holds, lambda_min / (2 dtheta) = {unamb:.4g} m: "
+                          "targets would repeat in the image", UserWarning, stacklevel=3)
+    res = theory_resolution(ph, ig_plane)
     if g.dx > res["azimuth"] * GRID_SPACING_OF_RESOLUTION or g.dy > res["range"] * GRID_SPACING_OF_RESOLUTION:
         raise ScenarioError("processing.grid", f"dx={g.dx:g}, dy={g.dy:g}",
                             f"spacing must not exceed the resolution (azimuth {res['azimuth']:.4g} m, "
