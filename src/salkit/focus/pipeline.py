@@ -37,7 +37,6 @@ from ..tolerances import GRID_SPACING_OF_RESOLUTION
 from ..simulate.echoes import fast_time_axis, memory_estimate as simulate_memory_estimate, signal_shape
 from .downlooking import focus_downlooking_raw
 from .formers import DEFAULT_UPSAMPLE, ImageGrid, ImageResult, former_spec, get_former, upsample_bounds
-from .pfa import illuminated_extent
 from .phasehistory import PhaseHistory, default_grid, phase_history, theory_resolution
 from .tiles import DatasetPulses, Geometry, InMemoryPulses, form_tiles, memory_estimate, plan_tiling
 
@@ -350,6 +349,7 @@ def _grid_for(ph: PhaseHistory, grid: Grid | None, processing: Optional[Processi
         g = g.model_copy(update={"plane": plane})
     ig_plane = ImageGrid.of(ph, g).plane
     if ph.mode != "stripmap" and ph.positions.shape[0] > 1:
+        from .pfa import illuminated_extent  # here: importing it registers pfa, ahead of the formers' declared order
         unamb = illuminated_extent(ph.freq, ph.positions, ig_plane)["azimuth"]
         if g.nx * g.dx > unamb * (1 + 1e-9):
             warnings.warn(f"processing.grid spans {g.nx * g.dx:.4g} m in azimuth, more than the unambiguous "
