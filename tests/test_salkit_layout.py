@@ -112,6 +112,7 @@ DEFERRED_IMPORTS = {
     ("io/sicd.py", "lxml"): "as io/cphd.py",
     ("io/reading.py", "h5py"): "only to name a corrupt variable, after a read failed",
     ("simulate/objects.py", "matplotlib"): "only for image-file scenes",
+    ("focus/pipeline.py", ".pfa"): "imported at module level it registers pfa ahead of the formers' declared order",
 }
 
 
