@@ -350,11 +350,14 @@ def _grid_for(ph: PhaseHistory, grid: Grid | None, processing: Optional[Processi
     ig_plane = ImageGrid.of(ph, g).plane
     if ph.mode != "stripmap" and ph.positions.shape[0] > 1:
         from .pfa import illuminated_extent  # here: importing it registers pfa, ahead of the formers' declared order
-        unamb = illuminated_extent(ph.freq, ph.positions, ig_plane)["azimuth"]
-        if g.nx * g.dx > unamb * (1 + 1e-9):
+        # at the band's centre, as the scenario's check (lambda R PRF / 2v): the data's extent is
+        # given at the shortest wavelength, lambda_min / (2 dtheta)
+        f = np.asarray(ph.freq, np.float64)
+        unamb = illuminated_extent(f, ph.positions, ig_plane)["azimuth"] * float(f.max()) / float(f[f.size // 2])
+        if g.nx * g.dx > unamb * (1 + 1e-6):
             warnings.warn(f"processing.grid spans {g.nx * g.dx:.4g} m in azimuth, more than the unambiguous "
-                          f"azimuth extent the pulse spacing holds, lambda_min / (2 dtheta) = {unamb:.4g} m: "
-                          "targets would repeat in the image", UserWarning, stacklevel=3)
+                          f"azimuth extent the pulse spacing holds, lambda / (2 dtheta) = {unamb:.4g} m at the "
+                          "band's centre: targets would repeat in the image", UserWarning, stacklevel=3)
     res = theory_resolution(ph, ig_plane)
     if g.dx > res["azimuth"] * GRID_SPACING_OF_RESOLUTION or g.dy > res["range"] * GRID_SPACING_OF_RESOLUTION:
         raise ScenarioError("processing.grid", f"dx={g.dx:g}, dy={g.dy:g}",
