@@ -28,3 +28,30 @@ def test_the_model_figure(tmp_path):
     view = model_view(scene, np.array([0.0, -4000.0, 3000.0]), 0.05)
     p = plot.model_view_figure(view, tmp_path / "model.png", title="a car")
     assert p.stat().st_size > 10_000 and plt.get_fignums() == []
+
+
+def test_expected_positions_outside_a_narrow_strip_are_not_drawn_beyond_its_axes(tmp_path, monkeypatch):
+    """A 512 x 64 strip of the scene: the axes stay the image's extent, and only the targets the
+    strip holds are marked (before, the others stretched the axes far past the image)."""
+    import xarray as xr
+    import salkit.plot.images as I
+    az = np.linspace(-5.0, 5.0, 512)
+    rg = np.linspace(0.0, 0.3, 64)
+    ds = xr.Dataset({"image": (("azimuth", "range"), np.ones((512, 64), np.complex64))},
+                    coords={"azimuth": az, "range": rg})
+    seen = {}
+    save = I._save
+
+    def keep(fig, path):
+        ax = fig.axes[0]
+        seen["lims"] = ax.get_xlim() + ax.get_ylim()
+        seen["marked"] = [np.column_stack(line.get_data()) for line in ax.get_lines()]
+        return save(fig, path)
+
+    monkeypatch.setattr(I, "_save", keep)
+    truth = np.array([[0.0, 0.1], [1.0, 2.5], [-4.0, -1.0], [3.0, 0.2]])
+    I.image_db(ds, tmp_path / "strip.png", truth=truth)
+    assert np.allclose(seen["lims"], (-5.0, 5.0, 0.0, 0.3))
+    assert len(seen["marked"]) == 1 and np.allclose(seen["marked"][0], truth[[0, 3]])
+    I.image_db(ds, tmp_path / "none.png", truth=truth[[1, 2]])  # none inside: no marks, no legend
+    assert seen["marked"] == [] and np.allclose(seen["lims"], (-5.0, 5.0, 0.0, 0.3))

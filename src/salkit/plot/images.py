@@ -45,10 +45,16 @@ def image_db(image_ds, path, title: str = "", dynamic_range: float = 40.0, truth
     ext = [az[0], az[-1], rg[0], rg[-1]]
     im = ax.imshow(db.T, origin="lower", extent=ext, cmap="gray", vmin=-dynamic_range, vmax=0,
                    aspect="equal", interpolation="nearest")
-    if truth is not None and len(truth):
-        ax.plot(truth[:, 0], truth[:, 1], "o", mfc="none", mec="tab:red", ms=10, mew=1.0,
-                label="expected position")
-        ax.legend(loc="upper right", fontsize=8)
+    if truth is not None and len(truth):  # the targets the image holds: none drawn beyond its axes
+        truth = np.asarray(truth, np.float64)
+        inside = ((truth[:, 0] >= min(ext[:2])) & (truth[:, 0] <= max(ext[:2])) & (truth[:, 1] >= min(ext[2:]))
+                  & (truth[:, 1] <= max(ext[2:])))
+        if inside.any():
+            ax.plot(truth[inside, 0], truth[inside, 1], "o", mfc="none", mec="tab:red", ms=10, mew=1.0,
+                    label="expected position")
+            ax.legend(loc="upper right", fontsize=8)
+    ax.set_xlim(ext[0], ext[1])
+    ax.set_ylim(ext[2], ext[3])
     ax.set_xlabel("azimuth (m)")
     ax.set_ylabel(f"{image_ds.attrs.get('plane', 'slant')} range (m)")
     ax.set_title(title or f"{image_ds.attrs.get('algorithm', '')} image")
