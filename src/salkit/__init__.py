@@ -16,6 +16,8 @@ except PackageNotFoundError:  # pragma: no cover - source tree without install
 
 import lazy_loader as _lazy
 
+from . import _openmp  # noqa: F401,E402  (before numba starts its threads: OpenMP's waiting policy)
+
 from .errors import DataFileError, SalkitError, SamplingError, ScenarioError  # noqa: E402
 
 # Everything else loads on first use (scikit-image's mechanism), so ``import salkit`` and
