@@ -8,7 +8,7 @@ import sys
 def _run(code: str, **env) -> str:
     base = {k: v for k, v in os.environ.items() if k != "OMP_WAIT_POLICY"}
     return subprocess.run([sys.executable, "-c", code], env={**base, **env}, capture_output=True, text=True,
-                          check=True).stdout.strip()
+                          check=True, timeout=120).stdout.strip()
 
 
 def test_importing_salkit_asks_for_passive_waiting_before_numba_loads_openmp():
