@@ -135,11 +135,12 @@ def test_default_leaves_by_fft_are_longer_and_as_exact():
         assert _db(img[sel], truth) < -55.0, plane
 
 
-def test_curved_tracks_keep_the_interpolating_leaves():
-    """A pulse's range against its leaf's centre moves along a polar line where the track bends
-    or climbs (the 4-degree X-band arc: by far more than the FFT leaves' tolerance), so those
-    leaves are interpolated, 16 pulses long, as before; a straight track's spread is the
-    closed form's |q|^2 (1 - u^2) / 2 (1/r_near - 1/r_far), metres below a picometre."""
+def test_curved_tracks_do_not_fit_fft_leaves_on_the_planes_axis(monkeypatch):
+    """A pulse's range against its leaf's centre moves along a polar line of the plane's axis where
+    the track bends or climbs (the 4-degree X-band arc: by far more than the FFT leaves' tolerance),
+    so without the leaves' own axes (salkit.focus.ffbp_axes, the default there) those leaves are
+    interpolated, 16 pulses long; a straight track's spread is the closed form's
+    |q|^2 (1 - u^2) / 2 (1/r_near - 1/r_far), metres below a picometre."""
     import salkit.focus.ffbp as F
     from salkit.focus import phase_history
     from salkit.focus.formers import ImageGrid
@@ -148,6 +149,8 @@ def test_curved_tracks_keep_the_interpolating_leaves():
     pts, amp = tb.point_targets(64, count=3)
     ph = phase_history(tb.dataset(pts, amp))
     ig = ImageGrid.of(ph, tb.grid(64))
+    assert F.ffbp_layout(ph.positions, ph.freq, ig).frame is not None  # by default: on their own axes
+    monkeypatch.setattr(F, "OWN_AXIS_LEAVES", False)
     lay = F.ffbp_layout(ph.positions, ph.freq, ig)
     assert not lay.fft_leaves and max(b - a for a, b in lay.levels[0][0]) == F.LEAF_PULSES
     spans, centres = lay.levels[0][0], lay.levels[0][1]
@@ -173,6 +176,7 @@ def test_fft_leaves_layout_holds_each_line_once_and_one_batch_of_transforms(monk
     a scratch of the FFT length: the layout's bytes say so."""
     import salkit.focus.ffbp as F
     ph, ig, _, _ = _seed_case("5km", 64)
+    monkeypatch.setattr(F, "OWN_AXIS_LEAVES", False)  # the plane's axis (own axes: test_ffbp_axes)
     lay = F.ffbp_layout(ph.positions, ph.freq, ig)
     S, nu, nr = len(lay.levels[0][0]), int(lay.grids[0][2].max()), int(lay.grids[0][4].max())
     assert lay.fft_leaves and len(lay.levels) > 1

@@ -37,8 +37,13 @@ the sum over its pulses of their profiles shifted by that constant, and each pro
 transform of the pulse's windowed spectrum: so the line is one inverse FFT of the sum of the pulses'
 spectra, each times the phase ramp of its shift and its baseband phase (:func:`_fft_leaves`). Exact
 (no interpolation of profiles, no profiles at all), a product a pulse and frequency and a transform a
-line; leaves of :data:`FFT_LEAF_PULSES` then pay (one merge fewer). A curved or climbing track keeps
-the interpolated leaves below.
+line; leaves of :data:`FFT_LEAF_PULSES` then pay (one merge fewer). A curved or climbing track (an arc)
+moves that range along the plane's lines in the first order of its pulses' offsets; its leaves are
+formed by FFT on polar lines of constant cosine to each leaf's *own* track direction instead, where
+only the offsets across it and the second order move (2 um over 16 pulses of the 4-degree X-band arc
+where the plane's lines move 1.3 mm), with a first-order correction: a second sum and transform a
+line (:mod:`salkit.focus.ffbp_axes`, :func:`own_leaves_fit`; the first merge reads each leaf on its
+own axis). A track where neither fits keeps the interpolated leaves below.
 
 Range sampling: a sub-image at baseband holds each pulse's echo at range frequency
 (2 f / c) D - 2 f_c / c along the lines it is interpolated on, D the rate of the pulse's range
@@ -119,6 +124,10 @@ FFT_LEAVES = True
 #: Form the FFT leaves a parent's at a time, each parent's merged at once (:func:`_fused_leaves`):
 #: the leaves' grid is never held whole (tests switch it off to compare).
 FUSED_LEAVES = True
+#: Form the FFT leaves on each leaf's own axis where the plane's does not fit and that does
+#: (:func:`own_leaves_fit`, :mod:`salkit.focus.ffbp_axes`: a curved or climbing track; tests switch it
+#: off to compare).
+OWN_AXIS_LEAVES = True
 #: Polar lines the FFT leaves transform together (:func:`_fft_leaves`), in a scratch of that many
 #: rows of the FFT length (17 MB at 8232 points): the leaves' grid holds each line's own points only.
 FFT_LEAF_BATCH = 256
@@ -151,8 +160,9 @@ MAX_PART_WIDENING = 4.0
 MIN_SIDE = 32
 
 
-from .ffbp_leaves import (RAMP_BLOCK, _chunks, _leaf_kernel, _leaf_spectra, interpolation_table,
-                          _leaf_store, polynomial_weights)
+from .ffbp_axes import frame_fits, leaf_frames, own_axis_residual
+from .ffbp_leaves import (RAMP_BLOCK, _chunks, _leaf_kernel, _leaf_spectra, _leaf_spectra_own, interpolation_table,
+                          _leaf_store, _leaf_store_own, polynomial_weights)
 from .ffbp_merges import ANGLE_TAPS, _final_kernel, _final_rows, _merge_kernel
 
 
@@ -202,9 +212,10 @@ def _image_boundary(grid: ImageGrid, n: int = 64) -> np.ndarray:
 
 
 def _polar_grids(centres: np.ndarray, lengths: np.ndarray, grid: ImageGrid, wavelength: float, dr: float,
-                 oversample_angle: float, block: int = 256):
+                 oversample_angle: float, block: int = 256, axes: np.ndarray | None = None):
     """Per sub-aperture: u origin, u step, u count, r origin, r count (r step ``dr`` for all);
-    ``block`` sub-apertures at a time."""
+    ``block`` sub-apertures at a time; u the direction cosine to the plane's azimuth axis, or to each
+    sub-aperture's own axis ``axes`` (S, 3) (:mod:`salkit.focus.ffbp_axes`)."""
     pts = _image_boundary(grid)
     ea = grid.plane.azimuth
     S = centres.shape[0]
@@ -221,7 +232,7 @@ def _polar_grids(centres: np.ndarray, lengths: np.ndarray, grid: ImageGrid, wave
         cen = centres[sl]
         d = pts[None] - cen[:, None]
         R = np.linalg.norm(d, axis=-1)
-        U = d @ ea / R
+        U = (d @ ea if axes is None else np.einsum("skj,sj->sk", d, axes[sl])) / R
         rel = cen - o
         ca = np.clip(rel @ ea, az[0], az[-1])
         cg = np.clip(rel @ er, rg[0], rg[-1])
@@ -237,12 +248,14 @@ def _polar_grids(centres: np.ndarray, lengths: np.ndarray, grid: ImageGrid, wave
 
 def _lengths(positions: np.ndarray, groups: list, centres: np.ndarray, ea: np.ndarray, step: float) -> np.ndarray:
     """Effective length of each group of pulses: its span along ea plus twice its largest
-    excursion across ea (track curvature widens the angular band too), plus one pulse step."""
+    excursion across ea (track curvature widens the angular band too), plus one pulse step
+    (``ea`` (3,), or (S, 3) an axis a group)."""
     ab = np.asarray(groups, np.int64).reshape(-1, 2)
     idx = np.repeat(np.arange(len(ab)), ab[:, 1] - ab[:, 0])
     d = positions[ab[0, 0]:ab[-1, 1]] - centres[idx]
-    along = d @ ea
-    across = np.linalg.norm(d - along[:, None] * ea, axis=1)
+    axis = ea if np.ndim(ea) == 1 else ea[idx]
+    along = d @ ea if np.ndim(ea) == 1 else np.einsum("ij,ij->i", d, axis)
+    across = np.linalg.norm(d - along[:, None] * axis, axis=1)
     starts = ab[:, 0] - ab[0, 0]
     span = np.maximum.reduceat(along, starts) - np.minimum.reduceat(along, starts)
     return span + 2.0 * np.maximum.reduceat(across, starts) + step
@@ -323,7 +336,7 @@ def _sampled_pulses(spans: list, n_pulses: int) -> np.ndarray:
 
 
 def angle_lengths(spans: list, centres: np.ndarray, positions: np.ndarray, grid: ImageGrid,
-                  n_pulses: int = 9) -> np.ndarray:
+                  n_pulses: int = 9, axes: np.ndarray | None = None) -> np.ndarray:
     """Each sub-aperture's length as its polar grid's angle sampling must see it, m: the L for which
     the sub-image's highest frequency along the direction cosine u, L / lambda cycles, is reached.
 
@@ -347,6 +360,9 @@ def angle_lengths(spans: list, centres: np.ndarray, positions: np.ndarray, grid:
     grid : ImageGrid
     n_pulses : int
         Pulses sampled in each sub-aperture.
+    axes : float64 (S, 3), optional
+        Each sub-aperture's own axis, where its u is the cosine to that (:mod:`salkit.focus.ffbp_axes`):
+        at constant range x moves along v = n x (x - c) (n the plane's normal), so dx/du = r v / (t.v).
 
     Returns
     -------
@@ -354,6 +370,8 @@ def angle_lengths(spans: list, centres: np.ndarray, positions: np.ndarray, grid:
         m.
     """
     x = _scene_points(grid)
+    nrm = np.cross(grid.plane.azimuth, grid.plane.range)
+    nrm = nrm / np.linalg.norm(nrm)
     ea, er = grid.plane.azimuth, grid.plane.range
     pulses = _sampled_pulses(spans, n_pulses)
     out = np.empty(len(pulses))
@@ -361,8 +379,14 @@ def angle_lengths(spans: list, centres: np.ndarray, positions: np.ndarray, grid:
         sl = slice(s0, min(s0 + 64, len(pulses)))
         d = x - centres[sl][:, None, :]  # (S, K, 3)
         r = np.sqrt(np.einsum("skj,skj->sk", d, d))
-        t = np.maximum(d @ er, 1e-9 * r)
-        dxdu = r[..., None] * ea - (r * r * (d @ ea) / r / t)[..., None] * er  # (S, K, 3)
+        if axes is None:
+            t = np.maximum(d @ er, 1e-9 * r)
+            dxdu = r[..., None] * ea - (r * r * (d @ ea) / r / t)[..., None] * er  # (S, K, 3)
+        else:
+            v = np.cross(nrm, d)
+            tv = np.einsum("skj,sj->sk", v, axes[sl])
+            tv = np.where(np.abs(tv) > 1e-9 * r, tv, 1e-9 * r)
+            dxdu = (r / tv)[..., None] * v
         v = x[None, None] - positions[pulses[sl]][:, :, None]  # (S, n, K, 3)
         nv = v / np.sqrt(np.einsum("snkj,snkj->snk", v, v))[..., None] - (d / r[..., None])[:, None]
         out[sl] = 2.0 * np.abs(np.einsum("snkj,skj->snk", nv, dxdu)).max(axis=(1, 2))
@@ -462,7 +486,9 @@ class Layout(NamedTuple):
     image_bytes : float
         The output image, bytes (complex64).
     fft_leaves : bool
-        Whether the leaves are formed by FFT (:func:`fft_leaves_fit`).
+        Whether the leaves are formed by FFT (:func:`fft_leaves_fit`, :func:`own_leaves_fit`).
+    frame : float64 (S, 14) or None
+        The leaves' frames where they are formed on their own axes (:func:`own_leaves_fit`).
     """
 
     levels: list
@@ -474,6 +500,7 @@ class Layout(NamedTuple):
     profile_bytes: float
     image_bytes: float
     fft_leaves: bool = False
+    frame: np.ndarray | None = None
 
     def inputs(self, pulses: int, frequencies: int) -> str:
         """What the leaves read, for messages: the range profiles (pulses x FFT length) or, with FFT
@@ -575,6 +602,40 @@ def fft_leaves_fit(spans: list, centres: np.ndarray, grids, positions: np.ndarra
     return 4.0 * math.pi * float(freq[-1]) / SPEED_OF_LIGHT * spread <= FFT_LEAF_TOLERANCE
 
 
+def own_leaves_fit(spans: list, centres: np.ndarray, frame: np.ndarray | None, grids, positions: np.ndarray,
+                   grid: ImageGrid, freq: np.ndarray, dr: float, nfft: int) -> bool:
+    """Whether the leaves can be formed by FFT on their own axes (:mod:`salkit.focus.ffbp_axes`,
+    :data:`OWN_AXIS_LEAVES`): every leaf line shorter than the profiles' period, the scene where
+    every leaf's lines are well formed (:func:`~salkit.focus.ffbp_axes.frame_fits`), and the phase
+    the first-order correction leaves, k |eps - a b| + (k |eps|)^2 / 2 at the highest frequency
+    (:func:`~salkit.focus.ffbp_axes.own_axis_residual`), within :data:`FFT_LEAF_TOLERANCE`.
+
+    Parameters
+    ----------
+    spans, centres, positions, grid, dr
+        As :func:`leaf_shift_spread`.
+    frame : float64 (S, 14) or None
+        :func:`~salkit.focus.ffbp_axes.leaf_frames` (None: no).
+    grids : tuple
+        The leaves' own-axis polar grids.
+    freq : float64 (M,)
+        Frequencies, Hz.
+    nfft : int
+        The profiles' FFT length.
+
+    Returns
+    -------
+    bool
+    """
+    if not (OWN_AXIS_LEAVES and FFT_LEAVES) or frame is None or int(np.max(grids[4])) > nfft:
+        return False
+    if not frame_fits(frame, centres, _scene_points(grid)):
+        return False
+    eps, res = own_axis_residual(spans, centres, frame, grids, positions, dr)
+    k = 4.0 * math.pi * float(freq[-1]) / SPEED_OF_LIGHT
+    return k * res + 0.5 * (k * eps) ** 2 <= FFT_LEAF_TOLERANCE
+
+
 def _leaf_inputs(ph, range_window) -> tuple[np.ndarray, np.ndarray]:
     """The FFT leaves' inputs: the pulses' windowed spectra, real and imaginary parts apart
     (float32 (P, M') each, M frequencies padded with zeros to a multiple of :data:`RAMP_BLOCK`)."""
@@ -589,26 +650,39 @@ def _leaf_inputs(ph, range_window) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _fft_leaves(are, aim, M, dr, ref_range, qrel, w, first, count, centres, o, ea, er, u0, du, nu, r0, nr,
-                cyc_per_m, nfft, G) -> None:
+                cyc_per_m, nfft, G, frame=None) -> None:
     """The leaves by FFT into ``G`` (complex64 (S, NU, NR): a line a row, NR its longest length;
     the leaves those of ``first``, ``count``, ``centres`` and the grids, S of them): for each polar
     line the pulses' windowed spectra (:func:`_leaf_inputs`, M frequencies) summed with the phase
     ramps of their ranges (:func:`salkit.focus.ffbp_leaves._leaf_spectra`) and transformed in
     place in a scratch of :data:`FFT_LEAF_BATCH` rows of the profiles' FFT length ``nfft``, whose
     first NR points are kept (:func:`salkit.focus.ffbp_leaves._leaf_store`); exact where
-    :func:`fft_leaves_fit` holds, with no range profiles and no interpolation."""
+    :func:`fft_leaves_fit` holds, with no range profiles and no interpolation. With the leaves'
+    ``frame`` (:func:`own_leaves_fit`), on their own axes with the first-order correction: a second
+    scratch of its sums, transformed too (:func:`salkit.focus.ffbp_leaves._leaf_spectra_own`)."""
     S, NU, NR = G.shape
     lines = G.reshape(S * NU, NR)
     batch = FFT_LEAF_BATCH
     scratch = np.empty((min(S * NU, batch), nfft), np.complex64)
     lims = np.empty((scratch.shape[0], 2), np.int64)
+    if frame is not None:
+        scratch1 = np.empty_like(scratch)
+        bq = np.empty((scratch.shape[0], 3))
     for j0 in range(0, S * NU, batch):
         n = min(batch, S * NU - j0)
         blk = scratch[:n]
-        _leaf_spectra(are, aim, M, ref_range, qrel, w, first, count, centres, o, ea, er, u0, du, nu, r0, dr, nr,
-                      cyc_per_m, j0, NU, blk.view(np.float32), lims[:n], _chunks())
-        out = sfft.ifft(blk, axis=1, norm="forward", workers=FFT_WORKERS, overwrite_x=True)
-        _leaf_store(out, lims[:n], lines[j0:j0 + n])
+        if frame is None:
+            _leaf_spectra(are, aim, M, ref_range, qrel, w, first, count, centres, o, ea, er, u0, du, nu, r0, dr, nr,
+                          cyc_per_m, j0, NU, blk.view(np.float32), lims[:n], _chunks())
+            out = sfft.ifft(blk, axis=1, norm="forward", workers=FFT_WORKERS, overwrite_x=True)
+            _leaf_store(out, lims[:n], lines[j0:j0 + n])
+        else:
+            blk1 = scratch1[:n]
+            _leaf_spectra_own(are, aim, M, ref_range, qrel, w, first, count, frame, u0, du, nu, r0, dr, nr, cyc_per_m,
+                              j0, NU, blk.view(np.float32), blk1.view(np.float32), lims[:n], bq[:n], _chunks())
+            out = sfft.ifft(blk, axis=1, norm="forward", workers=FFT_WORKERS, overwrite_x=True)
+            out1 = sfft.ifft(blk1, axis=1, norm="forward", workers=FFT_WORKERS, overwrite_x=True)
+            _leaf_store_own(out, out1, lims[:n], bq[:n], lines[j0:j0 + n])
 
 
 def _fuses_leaves(fft_leaves: bool, levels: list) -> bool:
@@ -617,7 +691,8 @@ def _fuses_leaves(fft_leaves: bool, levels: list) -> bool:
     return fft_leaves and len(levels) > 1 and FUSED_LEAVES
 
 
-def _fused_leaves(scratch, out, factor, leaves, children, parent, dr, o, ea, er, cyc_per_m, tu, tr) -> None:
+def _fused_leaves(scratch, out, factor, leaves, children, parent, dr, o, ea, er, cyc_per_m, tu, tr,
+                  frame=None) -> None:
     """The FFT leaves and the first merge together, a parent at a time: parent s's ``factor``
     leaves (children s factor ..) formed by :func:`_fft_leaves` into ``scratch`` (complex64
     (factor, NU, NR)) and merged at once into ``out[s]`` by the merge kernel, so that the leaves'
@@ -626,7 +701,7 @@ def _fused_leaves(scratch, out, factor, leaves, children, parent, dr, o, ea, er,
 
     ``leaves`` = (first, count, qrel, are, aim, M, ref_range, w, nfft); ``children`` = (u0, du, nu,
     r0, nr, centres, rho) of the leaves; ``parent`` = (centres, rho, u0, du, nu, r0, nr) of the
-    first merge's sub-images."""
+    first merge's sub-images; ``frame`` the leaves' frames where they lie on their own axes."""
     first, count, qrel, are, aim, M, ref_range, w, nfft = leaves
     u0, du, nu, r0, nr, centres, rho = children
     pcen, prho, pu0, pdu, pnu, pr0, pnr = parent
@@ -634,12 +709,22 @@ def _fused_leaves(scratch, out, factor, leaves, children, parent, dr, o, ea, er,
     for s in range(pcen.shape[0]):
         a, b = s * factor, min(s * factor + factor, n_child)
         G = scratch[:b - a]
+        fr = None if frame is None else frame[a:b]
         _fft_leaves(are, aim, M, dr, ref_range, qrel, w, first[a:b], count[a:b], centres[a:b], o, ea, er, u0[a:b],
-                    du[a:b], nu[a:b], r0[a:b], nr[a:b], cyc_per_m, nfft, G)
+                    du[a:b], nu[a:b], r0[a:b], nr[a:b], cyc_per_m, nfft, G, fr)
         p = slice(s, s + 1)
+        cax, own = _child_axes(fr)
         _merge_kernel(G.view(np.float32), u0[a:b], du[a:b], nu[a:b], r0[a:b], nr[a:b], centres[a:b], rho[a:b], dr,
                       factor, o, ea, er, pcen[p], prho[p], pu0[p], pdu[p], pnu[p], pr0[p], dr, pnr[p], cyc_per_m, tu,
-                      tr, out[p], _chunks())
+                      tr, out[p], _chunks(), cax, own)
+
+
+def _child_axes(frame):
+    """The merge kernel's children's axes and whether to use them: the own axes of leaves with
+    ``frame``, else a placeholder (their direction cosines to the plane's axis)."""
+    if frame is None:
+        return np.zeros((1, 3)), False
+    return np.ascontiguousarray(frame[:, 11:14]), True
 
 
 def _check_in_front(leaves, grid: ImageGrid) -> None:
@@ -865,7 +950,9 @@ def _layout(positions: np.ndarray, freq: np.ndarray, grid: ImageGrid, w: np.ndar
             oversample_angle: float, oversample_range: float) -> Layout:
     """:class:`Layout` of FFBP with these settings (the window ``w`` weighs the sub-apertures'
     centres; ``leaf`` None: leaves of :data:`FFT_LEAF_PULSES` where they can be formed by FFT,
-    else of :data:`LEAF_PULSES`; only the leaves' grids are sized before that is known)."""
+    else of :data:`LEAF_PULSES`; only the leaves' grids are sized before that is known). At each leaf
+    size the FFT leaves are tried on the plane's axis (:func:`fft_leaves_fit`), then on the leaves'
+    own axes (:func:`own_leaves_fit`, where a merge follows them)."""
     P = positions.shape[0]
     if leaf is None:
         _check_in_front(_tree(positions, w, LEAF_PULSES, factor)[0], grid)  # named by the shorter leaves
@@ -873,11 +960,13 @@ def _layout(positions: np.ndarray, freq: np.ndarray, grid: ImageGrid, w: np.ndar
     step = float(np.median(np.linalg.norm(np.diff(positions, axis=0), axis=1))) if P > 1 else 0.0
     lam_min = SPEED_OF_LIGHT / float(freq[-1])
 
-    def polar_grids(spans, cen, dr):
+    def polar_grids(spans, cen, dr, axes=None):
         # the angle sampling: the span and curvature of each sub-aperture, or its band as seen from
-        # the scene where that is wider (a sub-aperture off the plane's range axis)
-        lengths = np.maximum(_lengths(positions, spans, cen, ea, step), angle_lengths(spans, cen, positions, grid))
-        return _polar_grids(cen, lengths, grid, lam_min, dr, oversample_angle)
+        # the scene where that is wider (a sub-aperture off the plane's range axis); u the cosine to
+        # the plane's azimuth axis, or to each sub-aperture's own
+        lengths = np.maximum(_lengths(positions, spans, cen, ea if axes is None else axes, step),
+                             angle_lengths(spans, cen, positions, grid, axes=axes))
+        return _polar_grids(cen, lengths, grid, lam_min, dr, oversample_angle, axes=axes)
 
     for size in (FFT_LEAF_PULSES, LEAF_PULSES) if leaf is None else (leaf,):
         levels = _tree(positions, w, size, factor)
@@ -890,17 +979,29 @@ def _layout(positions: np.ndarray, freq: np.ndarray, grid: ImageGrid, w: np.ndar
         nfft, dr = profile_sampling(freq, oversample_range * widen)
         leaves = polar_grids(levels[0][0], levels[0][1], dr)
         fft = fft_leaves_fit(levels[0][0], levels[0][1], leaves, positions, grid, freq, dr, nfft)
+        frame = None
         if fft:
             break
+        if len(levels) > 1 and OWN_AXIS_LEAVES and FFT_LEAVES:  # a merge reads them on their own axes
+            frame = leaf_frames(levels[0][0], levels[0][1], positions, grid.plane)
+            if frame is not None:
+                own = polar_grids(levels[0][0], levels[0][1], dr, frame[:, 11:14])
+                if own_leaves_fit(levels[0][0], levels[0][1], frame, own, positions, grid, freq, dr, nfft):
+                    fft, leaves = True, own
+                    break
+            frame = None
     grids = [leaves] + [polar_grids(spans, cen, dr) for spans, cen, _, _ in levels[1:]]
     nbytes = [8.0 * len(lv[0]) * int(g[2].max()) * int(g[4].max()) for lv, g in zip(levels, grids)]
     inputs = 8.0 * P * nfft
     if fft:  # the pulses' spectra instead of profiles, and a batch of lines a transform long
         lines = len(levels[0][0]) * int(grids[0][2].max())
         inputs = 8.0 * P * (-(-freq.size // RAMP_BLOCK) * RAMP_BLOCK) + 8.0 * min(lines, FFT_LEAF_BATCH) * nfft
+        if frame is not None:  # the correction's own batch of transforms
+            inputs += 8.0 * min(lines, FFT_LEAF_BATCH) * nfft
         if _fuses_leaves(fft, levels):  # formed a parent's leaves at a time
             nbytes[0] = 8.0 * levels[1][3] * int(grids[0][2].max()) * int(grids[0][4].max())
-    return Layout(levels, widen, nfft, dr, grids, nbytes, inputs, 8.0 * grid.azimuth.size * grid.range.size, fft)
+    return Layout(levels, widen, nfft, dr, grids, nbytes, inputs, 8.0 * grid.azimuth.size * grid.range.size, fft,
+                  frame)
 
 
 def ffbp_layout(positions: np.ndarray, freq: np.ndarray, grid: ImageGrid, accuracy: str = "standard") -> Layout:
@@ -1111,7 +1212,7 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
         are, aim = _leaf_inputs(ph, range_window)
         if not fused:
             _fft_leaves(are, aim, M, dr, ref_range, qrel, w, first, count, centres, o, ea, er, u0, du, nu, r0, nr,
-                        cyc_per_m, nfft, G)
+                        cyc_per_m, nfft, G, lay.frame)
             are = aim = None
     else:
         prof, rp0, _, _ = range_profiles(ph, freq, oversample_range * widen, np.asarray(range_window, np.float64))
@@ -1129,13 +1230,14 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
         if fused and done == 1:  # the leaves, a parent's at a time, each parent's merged at once
             _fused_leaves(G, out, f_level, (first, count, qrel, are, aim, M, ref_range, w, nfft),
                           (u0, du, nu, r0, nr, centres, rho), (pcen, prho, pu0, pdu, pnu, pr0, pnr), dr, o, ea, er,
-                          cyc_per_m, tu, tr)
+                          cyc_per_m, tu, tr, lay.frame)
             are = aim = None  # the spectra freed before the next level's buffer is faulted in
             if progress:
                 progress(done, n_levels)
-        else:
+        else:  # the first merge reads leaves on their own axes where they are so
+            cax, own = _child_axes(lay.frame if done == 1 else None)
             _merge_kernel(G.view(np.float32), u0, du, nu, r0, nr, centres, rho, dr, f_level, o, ea, er, pcen, prho,
-                          pu0, pdu, pnu, pr0, dr, pnr, cyc_per_m, tu, tr, out, _chunks())
+                          pu0, pdu, pnu, pr0, dr, pnr, cyc_per_m, tu, tr, out, _chunks(), cax, own)
         G, centres, rho = out, pcen, prho
         u0, du, nu, r0, nr = pu0, pdu, pnu, pr0, pnr
         samples.append(int((nu * nr).sum()))

@@ -11,6 +11,7 @@ import numpy as np
 from numba import get_num_threads, njit, prange
 
 from ..signals.phase import sincos_cycles as _sincos_cycles
+from .ffbp_axes import _own_line_start, _own_point, _own_weights
 
 #: Fractional positions tabulated per interpolation kernel (nearest entry: a position error of
 #: 1/4096 sample, a phase error below 5e-4 rad at the band edge).
@@ -491,6 +492,86 @@ def _ramp_tables(start, step, cyc0, wp, n_hi, t_hi_re, t_hi_im, t_lo_re, t_lo_im
         t_lo_im[ll] = s
 
 
+@njit(cache=True, fastmath=True, inline="always", error_model="numpy")
+def _ramp_sum(are, aim, p, n_hi, t_hi_re, t_hi_im, t_lo_re, t_lo_im, g_re, g_im):
+    """g += pulse p's spectrum times its phase ramp (:func:`_ramp_tables`), block by block."""
+    for hh in range(n_hi):
+        tr = t_hi_re[hh]
+        ti = t_hi_im[hh]
+        b = hh * RAMP_BLOCK
+        # slices from 0 (no index that numba must check for wraparound): one vector loop
+        ar = are[p, b:b + RAMP_BLOCK]
+        ai = aim[p, b:b + RAMP_BLOCK]
+        gr = g_re[b:b + RAMP_BLOCK]
+        gi = g_im[b:b + RAMP_BLOCK]
+        for m in range(RAMP_BLOCK):
+            wr = tr * t_lo_re[m] - ti * t_lo_im[m]
+            wi = tr * t_lo_im[m] + ti * t_lo_re[m]
+            gr[m] += ar[m] * wr - ai[m] * wi
+            gi[m] += ar[m] * wi + ai[m] * wr
+
+
+@njit(cache=True, fastmath=True, inline="always", error_model="numpy")
+def _ramp_sum2(are, aim, p, ap, n_hi, t_hi_re, t_hi_im, t_lo_re, t_lo_im, g_re, g_im, g1_re, g1_im):
+    """:func:`_ramp_sum` into g, and its term weighted by ``ap`` into g1 too (the own-axis leaves'
+    first-order sum)."""
+    a32 = np.float32(ap)
+    for hh in range(n_hi):
+        tr = t_hi_re[hh]
+        ti = t_hi_im[hh]
+        b = hh * RAMP_BLOCK
+        ar = are[p, b:b + RAMP_BLOCK]
+        ai = aim[p, b:b + RAMP_BLOCK]
+        gr = g_re[b:b + RAMP_BLOCK]
+        gi = g_im[b:b + RAMP_BLOCK]
+        hr = g1_re[b:b + RAMP_BLOCK]
+        hi = g1_im[b:b + RAMP_BLOCK]
+        for m in range(RAMP_BLOCK):
+            wr = tr * t_lo_re[m] - ti * t_lo_im[m]
+            wi = tr * t_lo_im[m] + ti * t_lo_re[m]
+            xr = ar[m] * wr - ai[m] * wi
+            xi = ar[m] * wi + ai[m] * wr
+            gr[m] += xr
+            gi[m] += xi
+            hr[m] += a32 * xr
+            hi[m] += a32 * xi
+
+
+@njit(cache=True, fastmath=True, inline="always", error_model="numpy")
+def _spectrum_row(row, g_re, g_im, M, h, nfft):
+    """The sums of M frequencies into a row of the transform (float32, interleaved, nfft complex
+    values): frequency m at bin (m - h) mod nfft, zeros between."""
+    for m in range(h, M):
+        row[2 * (m - h)] = g_re[m]
+        row[2 * (m - h) + 1] = g_im[m]
+    for k in range(2 * (M - h), 2 * (nfft - h)):
+        row[k] = np.float32(0.0)
+    for m in range(h):
+        row[2 * (nfft - h + m)] = g_re[m]
+        row[2 * (nfft - h + m) + 1] = g_im[m]
+
+
+@njit(cache=True, fastmath=True, inline="always", error_model="numpy")
+def _line_limits(lims, jj, lo, n, off_lo, off_hi, nfft):
+    """The points of a leaf's line whose every pulse reads its profile where the interpolating
+    leaves would (eight taps inside the profile): the first and last index into ``lims[jj]``."""
+    lims[jj, 0] = max(lo, int(math.ceil(3.0 - off_lo)))
+    lims[jj, 1] = min(n - 1, int(math.ceil(nfft - 4.0 - off_hi)) - 1)
+
+
+@njit(cache=True, fastmath=True, inline="always", error_model="numpy")
+def _pulse_delta(qrel, p, e0, e1, e2, rc):
+    """|x - p| - |x - c| from small differences: x - c = e (|e| = ``rc``), qrel[p] = (c - p, |c - p|^2, ..)."""
+    q0 = qrel[p, 0]
+    q1 = qrel[p, 1]
+    q2 = qrel[p, 2]
+    num = 2.0 * (q0 * e0 + q1 * e1 + q2 * e2) + qrel[p, 3]  # |x - p|^2 - |x - c|^2
+    f0 = e0 + q0
+    f1 = e1 + q1
+    f2 = e2 + q2
+    return num / (math.sqrt(f0 * f0 + f1 * f1 + f2 * f2) + rc)
+
+
 @njit(parallel=True, nogil=True, cache=True, fastmath=True, error_model="numpy")
 def _leaf_spectra(are, aim, M, ref, qrel, weight, first, count, cen, o, ea, er, u0, du, nu, r0, dr, nr, cyc_per_m,
                   j0, NU, spec, lims, chunks):
@@ -534,8 +615,7 @@ def _leaf_spectra(are, aim, M, ref, qrel, weight, first, count, cen, o, ea, er, 
             n = nr[s]
             lo, h2, w, oa0, oa1, oa2 = _line_start(o, ea, er, cen[s], r0[s], dr, n, u)
             if iu >= nu[s] or lo >= n:  # no line: its row is transformed all the same
-                for k in range(nfft2):
-                    row[k] = np.float32(0.0)
+                row[:] = np.float32(0.0)
                 continue
             rm = r0[s] + 0.5 * (lo + n - 1) * dr  # the line's middle point
             t = math.sqrt(max(rm * rm * w - h2, 0.0))
@@ -549,48 +629,149 @@ def _leaf_spectra(are, aim, M, ref, qrel, weight, first, count, cen, o, ea, er, 
             off_lo = np.inf
             off_hi = -np.inf
             for p in range(first[s], first[s] + count[s]):
-                q0 = qrel[p, 0]
-                q1 = qrel[p, 1]
-                q2 = qrel[p, 2]
-                num = 2.0 * (q0 * e0 + q1 * e1 + q2 * e2) + qrel[p, 3]  # |x - p|^2 - |x - c|^2
-                f0 = e0 + q0
-                f1 = e1 + q1
-                f2 = e2 + q2
-                dlt = num / (math.sqrt(f0 * f0 + f1 * f1 + f2 * f2) + rc)
+                dlt = _pulse_delta(qrel, p, e0, e1, e2, rc)
                 D = r0[s] + dlt - ref[p]  # rho of the line's first sample
                 off = D / dr + nfft // 2  # its profile bin
                 off_lo = min(off_lo, off)
                 off_hi = max(off_hi, off)
                 _ramp_tables(-h, step * D, cyc_per_m * (dlt - qrel[p, 4]), weight[p], n_hi, t_hi_re, t_hi_im,
                              t_lo_re, t_lo_im)
-                for hh in range(n_hi):
-                    tr = t_hi_re[hh]
-                    ti = t_hi_im[hh]
-                    b = hh * RAMP_BLOCK
-                    # slices from 0 (no index that numba must check for wraparound): one vector loop
-                    ar = are[p, b:b + RAMP_BLOCK]
-                    ai = aim[p, b:b + RAMP_BLOCK]
-                    gr = g_re[b:b + RAMP_BLOCK]
-                    gi = g_im[b:b + RAMP_BLOCK]
-                    for m in range(RAMP_BLOCK):
-                        wr = tr * t_lo_re[m] - ti * t_lo_im[m]
-                        wi = tr * t_lo_im[m] + ti * t_lo_re[m]
-                        gr[m] += ar[m] * wr - ai[m] * wi
-                        gi[m] += ar[m] * wi + ai[m] * wr
-            for m in range(h, M):  # frequency m at bin (m - h) mod nfft
-                row[2 * (m - h)] = g_re[m]
-                row[2 * (m - h) + 1] = g_im[m]
-            for k in range(2 * (M - h), 2 * (nfft - h)):
-                row[k] = np.float32(0.0)
-            for m in range(h):
-                row[2 * (nfft - h + m)] = g_re[m]
-                row[2 * (nfft - h + m) + 1] = g_im[m]
-            # the points whose every pulse reads its profile where the interpolating leaves would
-            # (eight taps inside the profile)
-            first_in = max(lo, int(math.ceil(3.0 - off_lo)))
-            last_in = min(n - 1, int(math.ceil(nfft - 4.0 - off_hi)) - 1)
-            lims[jj, 0] = first_in
-            lims[jj, 1] = last_in
+                _ramp_sum(are, aim, p, n_hi, t_hi_re, t_hi_im, t_lo_re, t_lo_im, g_re, g_im)
+            _spectrum_row(row, g_re, g_im, M, h, nfft)
+            _line_limits(lims, jj, lo, n, off_lo, off_hi, nfft)
+
+
+@njit(parallel=True, nogil=True, cache=True, fastmath=True, error_model="numpy")
+def _leaf_spectra_own(are, aim, M, ref, qrel, weight, first, count, frame, u0, du, nu, r0, dr, nr, cyc_per_m, j0, NU,
+                      spec, spec1, lims, bq, chunks):
+    """:func:`_leaf_spectra` on the leaves' own axes (:mod:`salkit.focus.ffbp_axes`, ``frame`` a row a
+    leaf), with the first-order correction: each pulse's eps at the line's first and last point
+    (eps = delta_p - delta_p at the middle), their rank-one model eps_p(r) ~ a_p b(r)
+    (:func:`~salkit.focus.ffbp_axes._own_weights`), and beside each line's spectrum in ``spec`` the
+    sum weighted by a_p and j 2 pi (2 f / c) into ``spec1``, whose transform times b along the line
+    is the correction (:func:`_leaf_store_own`); ``bq[j]`` = (middle index, b's slope and curvature
+    a point)."""
+    L, nfft2 = spec.shape
+    nfft = nfft2 // 2
+    h = M // 2
+    step = 1.0 / (nfft * dr)
+    n_hi = are.shape[1] // RAMP_BLOCK
+    n_chunks = max(1, min(L, chunks))
+    width = 1
+    for s in range(count.shape[0]):
+        width = max(width, count[s])
+    for ch in prange(n_chunks):
+        g_re = np.empty(n_hi * RAMP_BLOCK, np.float32)
+        g_im = np.empty(n_hi * RAMP_BLOCK, np.float32)
+        g1_re = np.empty(n_hi * RAMP_BLOCK, np.float32)
+        g1_im = np.empty(n_hi * RAMP_BLOCK, np.float32)
+        t_hi_re = np.empty(n_hi, np.float32)
+        t_hi_im = np.empty(n_hi, np.float32)
+        t_lo_re = np.empty(RAMP_BLOCK, np.float32)
+        t_lo_im = np.empty(RAMP_BLOCK, np.float32)
+        d_mid = np.empty(width)
+        e_lo = np.empty(width)
+        e_hi = np.empty(width)
+        for jj in range(ch * L // n_chunks, (ch + 1) * L // n_chunks):
+            job = j0 + jj
+            s = job // NU
+            iu = job % NU
+            lims[jj, 0] = 0
+            lims[jj, 1] = -1
+            bq[jj, 0] = 0.0
+            bq[jj, 1] = 0.0
+            bq[jj, 2] = 0.0
+            row = spec[jj]
+            row1 = spec1[jj]
+            u = u0[s] + iu * du[s]
+            n = nr[s]
+            fr = frame[s]
+            lo, sa, sb, h2 = _own_line_start(fr, r0[s], dr, n, u)
+            if iu >= nu[s] or lo >= n:  # no line: its rows are transformed all the same
+                row[:] = np.float32(0.0)
+                row1[:] = np.float32(0.0)
+                continue
+            rm = r0[s] + 0.5 * (lo + n - 1) * dr  # the line's middle point, and its ends
+            e0, e1, e2 = _own_point(fr, sa, sb, h2, rm)
+            a0, a1, a2 = _own_point(fr, sa, sb, h2, r0[s] + lo * dr)
+            b0, b1, b2 = _own_point(fr, sa, sb, h2, r0[s] + (n - 1) * dr)
+            rc = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
+            rca = math.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
+            rcb = math.sqrt(b0 * b0 + b1 * b1 + b2 * b2)
+            saa = 0.0
+            sab = 0.0
+            sbb = 0.0
+            for i in range(count[s]):
+                p = first[s] + i
+                dlt = _pulse_delta(qrel, p, e0, e1, e2, rc)
+                ea = _pulse_delta(qrel, p, a0, a1, a2, rca) - dlt
+                eb = _pulse_delta(qrel, p, b0, b1, b2, rcb) - dlt
+                d_mid[i] = dlt
+                e_lo[i] = ea
+                e_hi[i] = eb
+                saa += ea * ea
+                sab += ea * eb
+                sbb += eb * eb
+            va, vb = _own_weights(saa, sab, sbb)
+            for m in range(g_re.shape[0]):
+                g_re[m] = np.float32(0.0)
+                g_im[m] = np.float32(0.0)
+                g1_re[m] = np.float32(0.0)
+                g1_im[m] = np.float32(0.0)
+            off_lo = np.inf
+            off_hi = -np.inf
+            for i in range(count[s]):
+                p = first[s] + i
+                dlt = d_mid[i]
+                D = r0[s] + dlt - ref[p]  # rho of the line's first sample
+                off = D / dr + nfft // 2  # its profile bin
+                off_lo = min(off_lo, off)
+                off_hi = max(off_hi, off)
+                _ramp_tables(-h, step * D, cyc_per_m * (dlt - qrel[p, 4]), weight[p], n_hi, t_hi_re, t_hi_im,
+                             t_lo_re, t_lo_im)
+                _ramp_sum2(are, aim, p, va * e_lo[i] + vb * e_hi[i], n_hi, t_hi_re, t_hi_im, t_lo_re, t_lo_im, g_re,
+                           g_im, g1_re, g1_im)
+            _spectrum_row(row, g_re, g_im, M, h, nfft)
+            for m in range(M):  # times j 2 pi (2 f_m / c): the phase's rate in eps
+                wm = np.float32(2.0 * math.pi * ((m - h) * step + cyc_per_m))
+                xr = g1_re[m]
+                g1_re[m] = -wm * g1_im[m]
+                g1_im[m] = wm * xr
+            _spectrum_row(row1, g1_re, g1_im, M, h, nfft)
+            _line_limits(lims, jj, lo, n, off_lo, off_hi, nfft)
+            half = 0.5 * (n - 1 - lo)
+            if half > 0.0:
+                bq[jj, 0] = 0.5 * (lo + n - 1)
+                bq[jj, 1] = (vb - va) / (2.0 * half)
+                bq[jj, 2] = (va + vb) / (2.0 * half * half)
+
+
+@njit(parallel=True, nogil=True, cache=True, error_model="numpy")
+def _leaf_store_own(lines, lines1, lims, bq, out):
+    """:func:`_leaf_store` of the own-axis leaves: each point the transformed line plus b times the
+    transformed correction (b = slope x + curvature x^2, x the index from the middle, ``bq``)."""
+    L = lines.shape[0]
+    n = out.shape[1]
+    for jj in prange(L):
+        src = lines[jj]
+        src1 = lines1[jj]
+        row = out[jj]
+        a = min(max(lims[jj, 0], 0), n)
+        b = min(lims[jj, 1], n - 1)
+        if b < a:
+            a = b = n
+        else:
+            b += 1
+        mid = bq[jj, 0]
+        b1 = bq[jj, 1]
+        b2 = bq[jj, 2]
+        for k in range(a):
+            row[k] = 0j
+        for k in range(a, b):
+            x = k - mid
+            row[k] = src[k] + np.float32(b1 * x + b2 * x * x) * src1[k]
+        for k in range(b, n):
+            row[k] = 0j
 
 
 @njit(parallel=True, nogil=True, cache=True, error_model="numpy")

@@ -164,12 +164,14 @@ def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, dr_child, da, E0, E1, E2, 
 
 
 @njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
-def _line_from_children(Gf, c0, c1, cu0, cdu, cnu, cr0, cnr, ccen, crho, lcen, lrho, dr_child, ea, X0, X1, X2,
-                        r_line, cyc_per_m, tu, tr, orow, E0, E1, E2, Ea, acc2, fr_b, v_b, sn_b, cs_b, h2, t2):
+def _line_from_children(Gf, c0, c1, cu0, cdu, cnu, cr0, cnr, ccen, crho, lcen, lrho, dr_child, ea, cax, own, X0, X1,
+                        X2, r_line, cyc_per_m, tu, tr, orow, E0, E1, E2, Ea, acc2, fr_b, v_b, sn_b, cs_b, h2, t2):
     """Children c0 .. c1 - 1 summed along one parent's polar line of points into ``orow``, each
     interpolated and moved from its baseband to the line's: exp(j k ((|X - c_child| - rho_child)
     - (|X - c_line| - rho_line))), ``r_line`` = |X - c_line|. The range differences are formed
-    from small ones: |X - a|^2 - |X - b|^2 = (b - a).(2 (X - b) + (b - a)). The rest are the
+    from small ones: |X - a|^2 - |X - b|^2 = (b - a).(2 (X - b) + (b - a)). The children's direction
+    cosines are to ``ea``, or with ``own`` to each child's own axis ``cax[c]`` (leaves on their own
+    axes, :mod:`salkit.focus.ffbp_axes`: E.t formed again for each child). The rest are the
     caller's scratch (:func:`_line_scratch`), sliced here to the line: no allocation per line."""
     m = X0.shape[0]
     E0 = E0[:m]
@@ -193,8 +195,17 @@ def _line_from_children(Gf, c0, c1, cu0, cdu, cnu, cr0, cnr, ccen, crho, lcen, l
         q0 = lcen[0] - ccen[c, 0]
         q1 = lcen[1] - ccen[c, 1]
         q2 = lcen[2] - ccen[c, 2]
+        if own:
+            ta0 = cax[c, 0]
+            ta1 = cax[c, 1]
+            ta2 = cax[c, 2]
+            for k in range(m):
+                Ea[k] = E0[k] * ta0 + E1[k] * ta1 + E2[k] * ta2
+            da = q0 * ta0 + q1 * ta1 + q2 * ta2
+        else:
+            da = q0 * ea[0] + q1 * ea[1] + q2 * ea[2]
         _accumulate_child(Gf, c, cu0[c], cdu[c], cnu[c], cr0[c], cnr[c], dr_child,
-                          q0 * ea[0] + q1 * ea[1] + q2 * ea[2], E0, E1, E2, Ea, r_line, 2.0 * q0, 2.0 * q1,
+                          da, E0, E1, E2, Ea, r_line, 2.0 * q0, 2.0 * q1,
                           2.0 * q2, q0 * q0 + q1 * q1 + q2 * q2, crho[c] - lrho, cyc_per_m, tu, tr, acc2, fr_b, v_b,
                           sn_b, cs_b, h2, t2)
     for k in range(m):
@@ -203,8 +214,9 @@ def _line_from_children(Gf, c0, c1, cu0, cdu, cnu, cr0, cnr, ccen, crho, lcen, l
 
 @njit(parallel=True, nogil=True, cache=True, fastmath=True, error_model="numpy")
 def _merge_kernel(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, dr_child, factor, o, ea, er, cen, rho, u0, du, nu, r0, dr,
-                  nr, cyc_per_m, tu, tr, out, chunks):
-    """Merge ``factor`` consecutive child sub-images into each parent's polar grid."""
+                  nr, cyc_per_m, tu, tr, out, chunks, cax, own):
+    """Merge ``factor`` consecutive child sub-images into each parent's polar grid (the children's
+    direction cosines to ``ea``, or with ``own`` to their own axes ``cax``, (n_child, 3))."""
     S, NU, NR = out.shape
     n_child = Gf.shape[0]
     n_jobs = S * NU
@@ -223,9 +235,9 @@ def _merge_kernel(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, dr_child, factor, o, 
             if top < lo:
                 continue
             _line_from_children(Gf, s * factor, min(s * factor + factor, n_child), cu0, cdu, cnu, cr0, cnr, ccen,
-                                crho, cen[s], rho[s], dr_child, ea, X0[lo:top + 1], X1[lo:top + 1], X2[lo:top + 1],
-                                rl[lo:top + 1], cyc_per_m, tu, tr, out[s, iu, lo:top + 1], E0, E1, E2, Ea, acc2, fr_b,
-                                v_b, sn_b, cs_b, h2, t2)
+                                crho, cen[s], rho[s], dr_child, ea, cax, own, X0[lo:top + 1], X1[lo:top + 1],
+                                X2[lo:top + 1], rl[lo:top + 1], cyc_per_m, tu, tr, out[s, iu, lo:top + 1], E0, E1, E2,
+                                Ea, acc2, fr_b, v_b, sn_b, cs_b, h2, t2)
 
 
 @njit(cache=True, fastmath=True, inline="always", error_model="numpy")
