@@ -142,12 +142,7 @@ def test_own_axis_leaves_against_the_exact_sum_at_their_points(monkeypatch):
     spans, centres = lay.levels[0][0], lay.levels[0][1]
     u0, du, nu, r0, nr = lay.grids[0]
     o, ea, er = (np.ascontiguousarray(v, np.float64) for v in (ig.plane.origin, ig.plane.azimuth, ig.plane.range))
-    first = np.array([a for a, _ in spans], np.int64)
-    count = np.array([b - a for a, b in spans], np.int64)
-    rho = np.linalg.norm(centres - o, axis=1)
-    leaf_of = np.repeat(np.arange(len(spans)), count)
-    q = centres[leaf_of] - pos
-    qrel = np.ascontiguousarray(np.column_stack([q, np.einsum("ij,ij->i", q, q), ref - rho[leaf_of]]))
+    first, count, rho, qrel = F.leaf_pulses(spans, centres, pos, ref, o)
     are, aim = F._leaf_inputs(ph.data, np.ones(M))
     w = np.ones(P, np.float32)
     cyc = 2.0 * freq[M // 2] / SPEED_OF_LIGHT
@@ -229,3 +224,23 @@ def test_own_axis_layout_holds_the_corrections_batch_too():
     spectra = 8.0 * P * (-(-M // F.RAMP_BLOCK) * F.RAMP_BLOCK)
     assert lay.frame is not None
     assert lay.profile_bytes == spectra + 2 * 8.0 * min(S * nu, F.FFT_LEAF_BATCH) * lay.nfft
+
+
+def test_angle_sampling_on_own_axes_is_the_planes_where_they_coincide():
+    """The angle sampling's lengths with every sub-aperture's axis given as the plane's azimuth axis
+    equal those of the plane's own formula (dx/du = r v / (t.v), v = n x (x - c), is its general form);
+    on their own axes the arc's leaves all see the same band, where on the plane's it grows towards
+    the arc's ends (they look along the plane's axis at an angle)."""
+    import salkit.focus.ffbp as F
+    ph, ig = _arc(128)
+    levels = F._tree(ph.positions, np.ones(ph.positions.shape[0], np.float32), 16, 4)
+    spans, cen = levels[0][0], levels[0][1]
+    ea = np.tile(ig.plane.azimuth, (len(spans), 1))
+    plane = F.angle_lengths(spans, cen, ph.positions, ig)
+    assert np.allclose(F.angle_lengths(spans, cen, ph.positions, ig, axes=ea), plane, rtol=1e-9)
+    step = float(np.median(np.linalg.norm(np.diff(ph.positions, axis=0), axis=1)))
+    assert np.allclose(F._lengths(ph.positions, spans, cen, ea, step),
+                       F._lengths(ph.positions, spans, cen, ig.plane.azimuth, step), rtol=1e-12)
+    fr = leaf_frames(spans, cen, ph.positions, ig.plane)
+    own = F.angle_lengths(spans, cen, ph.positions, ig, axes=fr[:, 11:14])[:-1]  # the last leaf is short
+    assert np.ptp(own) < 1e-2 * np.ptp(plane[:-1])

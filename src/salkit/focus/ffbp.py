@@ -685,6 +685,42 @@ def _fft_leaves(are, aim, M, dr, ref_range, qrel, w, first, count, centres, o, e
             _leaf_store_own(out, out1, lims[:n], bq[:n], lines[j0:j0 + n])
 
 
+def leaf_pulses(spans: list, centres: np.ndarray, positions: np.ndarray, ref_range: np.ndarray,
+                origin: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """What the leaf kernels read of each leaf and pulse: each leaf's first pulse and count, its
+    centre's distance rho from the plane's origin, and each pulse's row (c - p, |c - p|^2,
+    R_ref - rho) against its leaf's centre c.
+
+    Parameters
+    ----------
+    spans : list of (int, int)
+        The leaves' pulses.
+    centres : float64 (S, 3)
+        Their centres, m.
+    positions : float64 (P, 3)
+        Antenna positions, m.
+    ref_range : float64 (P,)
+        Reference ranges, m.
+    origin : float64 (3,)
+        The image plane's origin, m.
+
+    Returns
+    -------
+    first, count : int64 (S,)
+    rho : float64 (S,)
+        m.
+    qrel : float64 (P, 5)
+        m, m^2, m.
+    """
+    first = np.array([a for a, _ in spans], np.int64)
+    count = np.array([b - a for a, b in spans], np.int64)
+    rho = np.linalg.norm(centres - origin, axis=1)
+    leaf_of = np.repeat(np.arange(len(spans)), count)
+    q = centres[leaf_of] - positions
+    qrel = np.ascontiguousarray(np.column_stack([q, np.einsum("ij,ij->i", q, q), ref_range - rho[leaf_of]]))
+    return first, count, rho, qrel
+
+
 def _fuses_leaves(fft_leaves: bool, levels: list) -> bool:
     """Whether FFBP forms its leaves a parent's at a time (:func:`_fused_leaves`): FFT leaves with a
     merge after them, and :data:`FUSED_LEAVES`."""
@@ -1197,12 +1233,8 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     # children, and merged at once (:func:`_fused_leaves`): the leaves' grid is never whole
     fused = _fuses_leaves(lay.fft_leaves, levels)
     G = grid_buffer(0, (levels[1][3] if fused else len(groups), int(nu.max()), int(nr.max())))
-    first = np.array([a for a, _ in groups], np.int64)
-    count = np.array([b - a for a, b in groups], np.int64)
-    rho = np.linalg.norm(centres - o, axis=1)
-    leaf_of = np.repeat(np.arange(len(groups)), count)
-    q = centres[leaf_of] - positions
-    qrel = np.ascontiguousarray(np.column_stack([q, np.einsum("ij,ij->i", q, q), ref_range - rho[leaf_of]]))
+    first, count, rho, qrel = leaf_pulses(groups, centres, positions, ref_range, o)
+    q = qrel[:, :3]
     # the leaves' series for R - |X - c| (no sqrt or division) where its truncation, about
     # 5 x^4 / (2 r)^3 with x the leaf's extent and r the nearest polar range, stays below 1e-5 rad
     x_max = float(np.max(np.linalg.norm(q, axis=1))) if q.size else 0.0

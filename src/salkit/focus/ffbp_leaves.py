@@ -493,17 +493,19 @@ def _ramp_tables(start, step, cyc0, wp, n_hi, t_hi_re, t_hi_im, t_lo_re, t_lo_im
 
 
 @njit(cache=True, fastmath=True, inline="always", error_model="numpy")
+def _ramp_block(are, aim, p, hh, t_hi_re, t_hi_im, g_re, g_im):
+    """Block ``hh`` of a ramp sum: its phasor from the high table, pulse p's spectrum and the sums'
+    slices (slices from 0: no index that numba must check for wraparound, one vector loop)."""
+    b = hh * RAMP_BLOCK
+    return (t_hi_re[hh], t_hi_im[hh], are[p, b:b + RAMP_BLOCK], aim[p, b:b + RAMP_BLOCK], g_re[b:b + RAMP_BLOCK],
+            g_im[b:b + RAMP_BLOCK])
+
+
+@njit(cache=True, fastmath=True, inline="always", error_model="numpy")
 def _ramp_sum(are, aim, p, n_hi, t_hi_re, t_hi_im, t_lo_re, t_lo_im, g_re, g_im):
     """g += pulse p's spectrum times its phase ramp (:func:`_ramp_tables`), block by block."""
     for hh in range(n_hi):
-        tr = t_hi_re[hh]
-        ti = t_hi_im[hh]
-        b = hh * RAMP_BLOCK
-        # slices from 0 (no index that numba must check for wraparound): one vector loop
-        ar = are[p, b:b + RAMP_BLOCK]
-        ai = aim[p, b:b + RAMP_BLOCK]
-        gr = g_re[b:b + RAMP_BLOCK]
-        gi = g_im[b:b + RAMP_BLOCK]
+        tr, ti, ar, ai, gr, gi = _ramp_block(are, aim, p, hh, t_hi_re, t_hi_im, g_re, g_im)
         for m in range(RAMP_BLOCK):
             wr = tr * t_lo_re[m] - ti * t_lo_im[m]
             wi = tr * t_lo_im[m] + ti * t_lo_re[m]
@@ -517,15 +519,9 @@ def _ramp_sum2(are, aim, p, ap, n_hi, t_hi_re, t_hi_im, t_lo_re, t_lo_im, g_re, 
     first-order sum)."""
     a32 = np.float32(ap)
     for hh in range(n_hi):
-        tr = t_hi_re[hh]
-        ti = t_hi_im[hh]
-        b = hh * RAMP_BLOCK
-        ar = are[p, b:b + RAMP_BLOCK]
-        ai = aim[p, b:b + RAMP_BLOCK]
-        gr = g_re[b:b + RAMP_BLOCK]
-        gi = g_im[b:b + RAMP_BLOCK]
-        hr = g1_re[b:b + RAMP_BLOCK]
-        hi = g1_im[b:b + RAMP_BLOCK]
+        tr, ti, ar, ai, gr, gi = _ramp_block(are, aim, p, hh, t_hi_re, t_hi_im, g_re, g_im)
+        hr = g1_re[hh * RAMP_BLOCK:hh * RAMP_BLOCK + RAMP_BLOCK]
+        hi = g1_im[hh * RAMP_BLOCK:hh * RAMP_BLOCK + RAMP_BLOCK]
         for m in range(RAMP_BLOCK):
             wr = tr * t_lo_re[m] - ti * t_lo_im[m]
             wi = tr * t_lo_im[m] + ti * t_lo_re[m]
@@ -535,6 +531,45 @@ def _ramp_sum2(are, aim, p, ap, n_hi, t_hi_re, t_hi_im, t_lo_re, t_lo_im, g_re, 
             gi[m] += xi
             hr[m] += a32 * xr
             hi[m] += a32 * xi
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _line_job(jj, j0, NU, u0, du, nr, lims):
+    """Row ``jj`` of a batch starting at job ``j0``: its leaf s, line iu, direction cosine and
+    range count, its ``lims`` set to none until the line is formed."""
+    job = j0 + jj
+    s = job // NU
+    iu = job % NU
+    lims[jj, 0] = 0
+    lims[jj, 1] = -1
+    return s, iu, u0[s] + iu * du[s], nr[s]
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _ramp_scratch(n_hi):
+    """A chunk's tables of phasors (:func:`_ramp_tables`): high (``n_hi``) and low (RAMP_BLOCK), re and im."""
+    return (np.empty(n_hi, np.float32), np.empty(n_hi, np.float32), np.empty(RAMP_BLOCK, np.float32),
+            np.empty(RAMP_BLOCK, np.float32))
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _spectra_sizes(spec, M, dr, are, chunks):
+    """The FFT leaves' kernels' sizes: lines, FFT length, the middle frequency's index, the range
+    frequency step (cycles a metre), ramp blocks and chunks."""
+    L = spec.shape[0]
+    nfft = spec.shape[1] // 2
+    return L, nfft, M // 2, 1.0 / (nfft * dr), are.shape[1] // RAMP_BLOCK, max(1, min(L, chunks))
+
+
+@njit(cache=True, fastmath=True, inline="always", error_model="numpy")
+def _pulse_ramp(p, dlt, r0s, ref, qrel, weight, dr, nfft, h, step, cyc_per_m, n_hi, t_hi_re, t_hi_im, t_lo_re,
+                t_lo_im):
+    """Pulse p's phase ramp over the frequencies into the tables (:func:`_ramp_tables`), its range
+    against the leaf's centre ``dlt`` taken along the line; returns the profile bin its line's first
+    sample reads (rho = r0 + dlt - R_ref,p)."""
+    D = r0s + dlt - ref[p]  # rho of the line's first sample
+    _ramp_tables(-h, step * D, cyc_per_m * (dlt - qrel[p, 4]), weight[p], n_hi, t_hi_re, t_hi_im, t_lo_re, t_lo_im)
+    return D / dr + nfft // 2
 
 
 @njit(cache=True, fastmath=True, inline="always", error_model="numpy")
@@ -591,28 +626,14 @@ def _leaf_spectra(are, aim, M, ref, qrel, weight, first, count, cen, o, ea, er, 
     with no interpolation of profiles. ``lims[j]`` gets the first and last index of the line
     inside the plane and inside every pulse's profile (none: last < first).
     """
-    L, nfft2 = spec.shape
-    nfft = nfft2 // 2
-    h = M // 2
-    step = 1.0 / (nfft * dr)
-    n_hi = are.shape[1] // RAMP_BLOCK
-    n_chunks = max(1, min(L, chunks))
+    L, nfft, h, step, n_hi, n_chunks = _spectra_sizes(spec, M, dr, are, chunks)
     for ch in prange(n_chunks):
         g_re = np.empty(n_hi * RAMP_BLOCK, np.float32)
         g_im = np.empty(n_hi * RAMP_BLOCK, np.float32)
-        t_hi_re = np.empty(n_hi, np.float32)
-        t_hi_im = np.empty(n_hi, np.float32)
-        t_lo_re = np.empty(RAMP_BLOCK, np.float32)
-        t_lo_im = np.empty(RAMP_BLOCK, np.float32)
+        t_hi_re, t_hi_im, t_lo_re, t_lo_im = _ramp_scratch(n_hi)
         for jj in range(ch * L // n_chunks, (ch + 1) * L // n_chunks):
-            job = j0 + jj
-            s = job // NU
-            iu = job % NU
-            lims[jj, 0] = 0
-            lims[jj, 1] = -1
+            s, iu, u, n = _line_job(jj, j0, NU, u0, du, nr, lims)
             row = spec[jj]
-            u = u0[s] + iu * du[s]
-            n = nr[s]
             lo, h2, w, oa0, oa1, oa2 = _line_start(o, ea, er, cen[s], r0[s], dr, n, u)
             if iu >= nu[s] or lo >= n:  # no line: its row is transformed all the same
                 row[:] = np.float32(0.0)
@@ -629,13 +650,10 @@ def _leaf_spectra(are, aim, M, ref, qrel, weight, first, count, cen, o, ea, er, 
             off_lo = np.inf
             off_hi = -np.inf
             for p in range(first[s], first[s] + count[s]):
-                dlt = _pulse_delta(qrel, p, e0, e1, e2, rc)
-                D = r0[s] + dlt - ref[p]  # rho of the line's first sample
-                off = D / dr + nfft // 2  # its profile bin
+                off = _pulse_ramp(p, _pulse_delta(qrel, p, e0, e1, e2, rc), r0[s], ref, qrel, weight, dr, nfft, h,
+                                  step, cyc_per_m, n_hi, t_hi_re, t_hi_im, t_lo_re, t_lo_im)
                 off_lo = min(off_lo, off)
                 off_hi = max(off_hi, off)
-                _ramp_tables(-h, step * D, cyc_per_m * (dlt - qrel[p, 4]), weight[p], n_hi, t_hi_re, t_hi_im,
-                             t_lo_re, t_lo_im)
                 _ramp_sum(are, aim, p, n_hi, t_hi_re, t_hi_im, t_lo_re, t_lo_im, g_re, g_im)
             _spectrum_row(row, g_re, g_im, M, h, nfft)
             _line_limits(lims, jj, lo, n, off_lo, off_hi, nfft)
@@ -651,12 +669,7 @@ def _leaf_spectra_own(are, aim, M, ref, qrel, weight, first, count, frame, u0, d
     sum weighted by a_p and j 2 pi (2 f / c) into ``spec1``, whose transform times b along the line
     is the correction (:func:`_leaf_store_own`); ``bq[j]`` = (middle index, b's slope and curvature
     a point)."""
-    L, nfft2 = spec.shape
-    nfft = nfft2 // 2
-    h = M // 2
-    step = 1.0 / (nfft * dr)
-    n_hi = are.shape[1] // RAMP_BLOCK
-    n_chunks = max(1, min(L, chunks))
+    L, nfft, h, step, n_hi, n_chunks = _spectra_sizes(spec, M, dr, are, chunks)
     width = 1
     for s in range(count.shape[0]):
         width = max(width, count[s])
@@ -665,26 +678,17 @@ def _leaf_spectra_own(are, aim, M, ref, qrel, weight, first, count, frame, u0, d
         g_im = np.empty(n_hi * RAMP_BLOCK, np.float32)
         g1_re = np.empty(n_hi * RAMP_BLOCK, np.float32)
         g1_im = np.empty(n_hi * RAMP_BLOCK, np.float32)
-        t_hi_re = np.empty(n_hi, np.float32)
-        t_hi_im = np.empty(n_hi, np.float32)
-        t_lo_re = np.empty(RAMP_BLOCK, np.float32)
-        t_lo_im = np.empty(RAMP_BLOCK, np.float32)
+        t_hi_re, t_hi_im, t_lo_re, t_lo_im = _ramp_scratch(n_hi)
         d_mid = np.empty(width)
         e_lo = np.empty(width)
         e_hi = np.empty(width)
         for jj in range(ch * L // n_chunks, (ch + 1) * L // n_chunks):
-            job = j0 + jj
-            s = job // NU
-            iu = job % NU
-            lims[jj, 0] = 0
-            lims[jj, 1] = -1
+            s, iu, u, n = _line_job(jj, j0, NU, u0, du, nr, lims)
             bq[jj, 0] = 0.0
             bq[jj, 1] = 0.0
             bq[jj, 2] = 0.0
             row = spec[jj]
             row1 = spec1[jj]
-            u = u0[s] + iu * du[s]
-            n = nr[s]
             fr = frame[s]
             lo, sa, sb, h2 = _own_line_start(fr, r0[s], dr, n, u)
             if iu >= nu[s] or lo >= n:  # no line: its rows are transformed all the same
@@ -722,13 +726,10 @@ def _leaf_spectra_own(are, aim, M, ref, qrel, weight, first, count, frame, u0, d
             off_hi = -np.inf
             for i in range(count[s]):
                 p = first[s] + i
-                dlt = d_mid[i]
-                D = r0[s] + dlt - ref[p]  # rho of the line's first sample
-                off = D / dr + nfft // 2  # its profile bin
+                off = _pulse_ramp(p, d_mid[i], r0[s], ref, qrel, weight, dr, nfft, h, step, cyc_per_m, n_hi, t_hi_re,
+                                  t_hi_im, t_lo_re, t_lo_im)
                 off_lo = min(off_lo, off)
                 off_hi = max(off_hi, off)
-                _ramp_tables(-h, step * D, cyc_per_m * (dlt - qrel[p, 4]), weight[p], n_hi, t_hi_re, t_hi_im,
-                             t_lo_re, t_lo_im)
                 _ramp_sum2(are, aim, p, va * e_lo[i] + vb * e_hi[i], n_hi, t_hi_re, t_hi_im, t_lo_re, t_lo_im, g_re,
                            g_im, g1_re, g1_im)
             _spectrum_row(row, g_re, g_im, M, h, nfft)
@@ -756,22 +757,30 @@ def _leaf_store_own(lines, lines1, lims, bq, out):
         src = lines[jj]
         src1 = lines1[jj]
         row = out[jj]
-        a = min(max(lims[jj, 0], 0), n)
-        b = min(lims[jj, 1], n - 1)
-        if b < a:
-            a = b = n
-        else:
-            b += 1
+        a, b = _kept_span(row, lims, jj, n)
         mid = bq[jj, 0]
         b1 = bq[jj, 1]
         b2 = bq[jj, 2]
-        for k in range(a):
-            row[k] = 0j
         for k in range(a, b):
             x = k - mid
             row[k] = src[k] + np.float32(b1 * x + b2 * x * x) * src1[k]
-        for k in range(b, n):
-            row[k] = 0j
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _kept_span(row, lims, jj, n):
+    """The span a to b - 1 of a leaf's row that its ``lims[jj]`` keep (clipped to the row's ``n``
+    points; none where last < first), the row zeroed outside it."""
+    a = min(max(lims[jj, 0], 0), n)
+    b = min(lims[jj, 1], n - 1)
+    if b < a:
+        a = b = n
+    else:
+        b += 1
+    for k in range(a):
+        row[k] = 0j
+    for k in range(b, n):
+        row[k] = 0j
+    return a, b
 
 
 @njit(parallel=True, nogil=True, cache=True, error_model="numpy")
@@ -784,15 +793,6 @@ def _leaf_store(lines, lims, out):
     for jj in prange(L):
         src = lines[jj]
         row = out[jj]
-        a = min(max(lims[jj, 0], 0), n)
-        b = min(lims[jj, 1], n - 1)
-        if b < a:
-            a = b = n
-        else:
-            b += 1
-        for k in range(a):
-            row[k] = 0j
+        a, b = _kept_span(row, lims, jj, n)
         for k in range(a, b):
             row[k] = src[k]
-        for k in range(b, n):
-            row[k] = 0j
