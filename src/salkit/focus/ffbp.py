@@ -70,10 +70,10 @@ kilometres each rounded to 6e-11 m. Each polar grid keeps :data:`MARGIN_ANGLE` a
 
 Accuracy knobs: ``oversample_angle`` and ``oversample_range`` (samples per Nyquist interval of
 the polar grids), ``range_taps`` and ``leaf`` (pulses backprojected directly into each
-first-level sub-image). Defaults (1.75, 2.0, 8, and leaves of 32 pulses by FFT or 16 interpolated):
--56.1 to -61 dB image error against the exact matched filter on the test geometries
+first-level sub-image). Defaults (1.75, 2.0, 8, and leaves of 32 or 16 pulses by FFT, else 16
+interpolated): -56.8 to -60.9 dB image error against the exact matched filter on the test geometries
 (:mod:`salkit.simulate.testbeds`, arcs of 4 to 60 degrees among them), not growing with the
-collection (1024^2 to 8192^2 pixels and pulses); :data:`ACCURATE` (3.0, 2.5): -70.0 to -77.5 dB.
+collection (1024^2 to 8192^2 pixels and pulses); :data:`ACCURATE` (3.0, 2.5): -70.1 to -76.6 dB.
 docs/performance.md gives the accuracy-speed curve.
 """
 from __future__ import annotations
@@ -97,7 +97,7 @@ from ..tolerances import BP_DEFAULT_UPSAMPLE, BP_UPSAMPLE
 from .bp import bp_memory
 from .bp_kernel import backproject
 
-#: Default accuracy settings (image error -56.5 to -61.0 dB against the exact matched filter, to 8192^2).
+#: Default accuracy settings (image error -56.8 to -60.9 dB against the exact matched filter, to 8192^2).
 LEAF_PULSES = 16
 #: Sub-images merged into each parent (4: fewer levels than 2, the same accuracy; the last merge is by 2).
 MERGE_FACTOR = 4
@@ -107,9 +107,9 @@ OVERSAMPLE_RANGE = 2.0
 SERIES = True
 #: Taps of the merges' range interpolation.
 RANGE_TAPS = 8
-#: The accuracy setting (``processing.accuracy = "high"``): -70.0 to -77.2 dB against the exact
-#: matched filter on the accuracy benchmark's geometries (-69 to -71 dB at 1024^2 to 8192^2 on the
-#: wide-angle arc), about 1.5x the default's time.
+#: The accuracy setting (``processing.accuracy = "high"``): -70.1 to -76.6 dB against the exact
+#: matched filter on the accuracy benchmark's geometries (-71.8 to -74.1 dB at 1024^2 to 8192^2 on the
+#: wide-angle arc, ground and slant), about 2x the default's time.
 ACCURATE = {"oversample_angle": 3.0, "oversample_range": 2.5}
 #: Taps of the leaves' range interpolation of the pulses' profiles.
 LEAF_TAPS = 8
@@ -1435,9 +1435,9 @@ TILE_OVERLAP = 16
     modes=("spotlight",), tracks="any", phase_reference="aperture_centre", tiles=True, tile_overlap=TILE_OVERLAP,
     blocks=ffbp_blocks, memory=ffbp_memory, footprint=ffbp_footprint,
     accuracy={"standard": Accuracy("polar grids oversampled 1.75 (angle), 2.0 (range)", -55.0,
-                                   "-56.5 to -61.0 dB measured to 8192^2, bright-pixel phase p99 < 1 deg"),
-              "high": Accuracy("oversampled 3.0 (angle), 2.5 (range), about 1.5x the time", -65.0,
-                               "-70.0 to -77.2 dB measured")})
+                                   "-56.8 to -60.9 dB measured to 8192^2, bright-pixel phase p99 < 1 deg"),
+              "high": Accuracy("oversampled 3.0 (angle), 2.5 (range), about 2x the time", -65.0,
+                               "-70.1 to -76.6 dB measured")})
 def form_ffbp(ph: PhaseHistory, grid: ImageGrid, window: Window, *, upsample: int = BP_UPSAMPLE,
               accuracy: str = "standard", progress=None) -> ImageResult:
     """Fast factorised backprojection (the ``ffbp`` former), normalised as ``bp``.
