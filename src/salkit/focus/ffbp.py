@@ -160,7 +160,7 @@ MAX_PART_WIDENING = 4.0
 MIN_SIDE = 32
 
 
-from .ffbp_axes import frame_fits, leaf_frames, own_axis_residual
+from .ffbp_axes import frame_fits, leaf_frames, own_axis_residual, pulse_range_differences
 from .ffbp_leaves import (RAMP_BLOCK, _chunks, _leaf_kernel, _leaf_spectra, _leaf_spectra_own, interpolation_table,
                           _leaf_store, _leaf_store_own, polynomial_weights)
 from .ffbp_merges import ANGLE_TAPS, _final_kernel, _final_rows, _merge_kernel
@@ -566,9 +566,7 @@ def leaf_shift_spread(spans: list, centres: np.ndarray, grids, positions: np.nda
          + np.sqrt(np.maximum(t2, 0.0))[..., None] * er)
     E = x - centres[:, None, None, :]  # (S, lines, ranges, 3)
     q = centres[:, None, :] - positions[pulses]  # (S, 3, 3): c - p
-    num = 2.0 * np.einsum("slrj,spj->slrp", E, q) + np.einsum("spj,spj->sp", q, q)[:, None, None, :]
-    Rp = np.linalg.norm(E[:, :, :, None, :] + q[:, None, None, :, :], axis=-1)
-    delta = num / (Rp + np.linalg.norm(E, axis=-1)[..., None])  # (S, lines, ranges, pulses)
+    delta = pulse_range_differences(E, q)  # (S, lines, ranges, pulses)
     inside = (t2 >= 0.0)[..., None] & np.isfinite(delta)
     hi = np.where(inside, delta, -np.inf).max(axis=2)
     lo = np.where(inside, delta, np.inf).min(axis=2)

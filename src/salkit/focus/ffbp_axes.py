@@ -294,9 +294,7 @@ def own_axis_residual(spans: list, centres: np.ndarray, frame: np.ndarray, grids
             E[:, j], ok[:, j] = Ej[:, 0], okj[:, 0]
         idx = ab[sl, 0, None] + np.minimum(np.arange(width)[None, :], (ab[sl, 1] - ab[sl, 0] - 1)[:, None])
         q = centres[sl, None, :] - positions[idx]  # (S, W, 3): c - p (short leaves repeat their last pulse)
-        num = (2.0 * np.einsum("slkj,swj->slkw", E, q) + np.einsum("swj,swj->sw", q, q)[:, None, None, :])
-        Rp = np.linalg.norm(E[:, :, :, None, :] + q[:, None, None, :, :], axis=-1)
-        delta = num / (Rp + np.linalg.norm(E, axis=-1)[..., None])  # (S, L, K + 1, W)
+        delta = pulse_range_differences(E, q)  # (S, L, K + 1, W)
         eps = delta[:, :, :-1] - delta[:, :, -1:]
         a, v = rank_one(eps[:, :, 0], eps[:, :, n_ranges - 1])
         b = quadratic(v[..., 0:1], v[..., 1:2], kk[..., :-1], lo[..., None], hi[..., None])  # (S, L, K)
@@ -306,6 +304,34 @@ def own_axis_residual(spans: list, centres: np.ndarray, frame: np.ndarray, grids
             eps_max = max(eps_max, float(np.abs(eps[use]).max()))
             res_max = max(res_max, float(np.abs(res[use]).max()))
     return eps_max, res_max
+
+
+def pulse_range_differences(E: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """Each pulse's range against its leaf's centre at points of the leaf's lines, |x - p| - |x - c|,
+    from small differences: (2 q.(x - c) + |q|^2) / (|x - p| + |x - c|), q = c - p.
+
+    Parameters
+    ----------
+    E : float64 (S, L, K, 3)
+        x - c at K points of L lines of each of S leaves, m.
+    q : float64 (S, W, 3)
+        c - p of W pulses of each leaf, m.
+
+    Returns
+    -------
+    float64 (S, L, K, W)
+        m.
+
+    Examples
+    --------
+    >>> E = np.array([3.0, 4.0, 0.0]).reshape(1, 1, 1, 3)
+    >>> q = np.array([0.0, -1.0, 0.0]).reshape(1, 1, 3)  # the pulse 1 m further along y: x - p = (3, 3, 0)
+    >>> bool(np.isclose(pulse_range_differences(E, q)[0, 0, 0, 0], np.hypot(3.0, 3.0) - 5.0, rtol=1e-14))
+    True
+    """
+    num = 2.0 * np.einsum("slkj,swj->slkw", E, q) + np.einsum("swj,swj->sw", q, q)[:, None, None, :]
+    Rp = np.linalg.norm(E[:, :, :, None, :] + q[:, None, None, :, :], axis=-1)
+    return num / (Rp + np.linalg.norm(E, axis=-1)[..., None])
 
 
 def frame_fits(frame: np.ndarray, centres: np.ndarray, points: np.ndarray) -> bool:
