@@ -5,7 +5,7 @@ import numpy as np
 from numba import njit
 
 from salkit.focus.profiles import KEYS_COEFFICIENTS, fitted_coefficients, symmetric_coefficients
-from salkit.focus.simd import WIDTH, linear8, taps4x8, taps8_sym7
+from salkit.focus.simd import WIDTH, linear8, taps4x8, taps4x16, taps8_sym7
 
 
 @njit
@@ -18,6 +18,12 @@ def _linear(pk, idx, frs, ss, cs, ore, oim):
 def _taps(pc, idx, frs, ss, cs, ore, oim, cf):
     for j in range(0, idx.size, WIDTH):
         taps4x8(pc, idx, frs, ss, cs, ore, oim, j, cf)
+
+
+@njit
+def _taps16(pc, idx, frs, ss, cs, ore, oim, cf):
+    for j in range(0, idx.size, 2 * WIDTH):
+        taps4x16(pc, idx, frs, ss, cs, ore, oim, j, cf)
 
 
 @njit
@@ -62,6 +68,63 @@ def test_taps4x8_is_the_four_tap_kernel_rotated_and_added():
         cf = symmetric_coefficients(coefficients, 0.5).astype(np.float32)
         _taps(padded.view(np.float32), (2 * bins).astype(np.uint32), frs, ss, cs, ore, oim, cf)
         np.testing.assert_allclose(ore + 1j * oim, want, rtol=0, atol=2e-5 * np.abs(want).max())
+
+
+def test_taps4x16_is_two_taps4x8_calls_bit_for_bit():
+    """Sixteen pixels a call (pixels q and q + 8 transposed side by side): every lane the value the
+    eight-pixel intrinsic gives, bit for bit (the same operations a lane), so AVX-512 and AVX2 code
+    make the same image; and the four-tap kernel itself to float32 rounding."""
+    rng = np.random.default_rng(16)
+    n, nb = 96, 300
+    prof = (rng.standard_normal(nb) + 1j * rng.standard_normal(nb)).astype(np.complex64)
+    padded = np.concatenate([[0], prof, [0, 0]]).astype(np.complex64)
+    coefficients = fitted_coefficients(50, 400)
+    cf = symmetric_coefficients(coefficients, 0.5).astype(np.float32)
+    bins, frs, ss, cs, ore, oim = _inputs(rng, n, nb)
+    idx = (2 * bins).astype(np.uint32)
+    eight = (ore.copy(), oim.copy())
+    sixteen = (ore.copy(), oim.copy())
+    _taps(padded.view(np.float32), idx, frs, ss, cs, *eight, cf)
+    _taps16(padded.view(np.float32), idx, frs, ss, cs, *sixteen, cf)
+    np.testing.assert_array_equal(sixteen[0], eight[0])
+    np.testing.assert_array_equal(sixteen[1], eight[1])
+    w = np.vander(frs.astype(np.float64), 4, increasing=True) @ np.asarray(coefficients).T
+    want = (ore + 1j * oim) + sum(w[:, q] * padded[bins + q] for q in range(4)) * (cs + 1j * ss)
+    np.testing.assert_allclose(sixteen[0] + 1j * sixteen[1], want, rtol=0, atol=2e-5 * np.abs(want).max())
+
+
+def test_transpose8_of_halves_transposes_each_half():
+    """transpose8 on <16 x float> rows: each eight-lane half transposed on its own, no lane crossing
+    between halves (the sixteen-pixel pass reads pixels 0-7 from the low halves, 8-15 from the high)."""
+    import llvmlite.ir as ir
+    from numba import types
+    from numba.extending import intrinsic
+
+    from salkit.focus.simd import transpose8
+    from salkit.signals.vectors import array_data, load_vector, store_vector
+
+    v16 = ir.VectorType(ir.FloatType(), 16)
+
+    @intrinsic
+    def _t(typingctx, a, out):
+        def codegen(context, builder, signature, args):
+            ap = array_data(context, builder, signature.args[0], args[0])
+            op = array_data(context, builder, signature.args[1], args[1])
+            rows = [load_vector(builder, ap, ir.Constant(ir.IntType(64), 16 * q), v16) for q in range(8)]
+            for k, col in enumerate(transpose8(builder, rows, 2)):
+                store_vector(builder, col, op, ir.Constant(ir.IntType(64), 16 * k))
+            return context.get_dummy_value()
+        return types.void(a, out), codegen
+
+    @njit
+    def run(a, out):
+        _t(a, out)
+
+    a = np.arange(128, dtype=np.float32)
+    out = np.zeros(128, np.float32)
+    run(a, out)
+    rows = a.reshape(8, 2, 8)  # row q, half h, lane l
+    np.testing.assert_array_equal(out.reshape(8, 2, 8), rows.transpose(2, 1, 0))
 
 
 def test_taps8_sym7_is_eight_symmetric_taps_of_polynomial_weights_rotated_and_added():

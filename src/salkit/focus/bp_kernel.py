@@ -5,7 +5,8 @@ For each pulse the phase history P(f) is turned into an upsampled range profile;
 differential range dR = |x - p| - R_ref adds profile(dR) * exp(+j 4 pi f_c dR / c), the profile
 read between its bins by the interpolation named (:data:`INTERPOLATIONS`: linear, nearest, Keys
 cubic, four taps fitted to the band), whose mean response is divided out of the spectrum first.
-The reading of the profiles is eight pixels at a time in vector registers (:mod:`salkit.focus.simd`).
+The reading of the profiles is eight pixels at a time in vector registers (:mod:`salkit.focus.simd`),
+sixteen for the four-tap kernels on AVX-512 code (:data:`SIXTEEN`).
 
 Precision: |x - p| is computed in float64 from the plane geometry (|x - p|^2 = A + g (B + g) for
 pixels x = o + g r along a range line), differenced against the float64 reference range, and
@@ -36,9 +37,14 @@ from ..constants import FFT_WORKERS, SPEED_OF_LIGHT
 from ..tolerances import BP_UPSAMPLE
 from .profiles import (interpolation_of, pack_profiles, pad_profiles, profile_length, range_profiles,
                        symmetric_coefficients)
-from .simd import WIDTH, linear8, taps4x8
+from .simd import WIDTH, linear8, taps4x8, taps4x16, wide_vectors
 
 WORKERS = FFT_WORKERS
+
+#: The four-tap second pass sixteen pixels a call (:data:`salkit.focus.simd.taps4x16`) where numba's
+#: code is AVX-512, eight (:data:`salkit.focus.simd.taps4x8`) where it is AVX2: read once, at import
+#: (numba's cache is keyed by the target).
+SIXTEEN = wide_vectors()
 
 
 
@@ -147,7 +153,8 @@ def _pass2(pk, idx, frs, ss, cs, out_re, out_im, mode, cf, j_lo, j_hi):
     interpolate (``mode``: :data:`INTERPOLATIONS`' codes; 0 linear between bins b and b + 1 of
     the interleaved profile, 1 nearest, 2 and 3 four taps on the padded interleaved profile with
     the weights' coefficients ``cf``: :func:`kernel_profiles`), rotate and accumulate; eight pixels at a time
-    (:mod:`salkit.focus.simd`), the last few scalar."""
+    (:mod:`salkit.focus.simd`; four taps sixteen at a time on AVX-512 code, :data:`SIXTEEN`), the last
+    few scalar."""
     n8 = j_lo + (j_hi - j_lo) // WIDTH * WIDTH
     if mode == 0:  # linear: bins b and b + 1
         for j in range(j_lo, n8, WIDTH):
@@ -172,7 +179,12 @@ def _pass2(pk, idx, frs, ss, cs, out_re, out_im, mode, cf, j_lo, j_hi):
             out_im[j] += vr * s + vi * c
     else:  # four taps, bins -1 .. 2 (Keys cubic, or fitted to the band)
         sym = cf[16:]  # the kernel's even and odd parts (taps4x8)
-        for j in range(j_lo, n8, WIDTH):
+        j8 = j_lo
+        if SIXTEEN:
+            j8 = j_lo + (j_hi - j_lo) // (2 * WIDTH) * (2 * WIDTH)
+            for j in range(j_lo, j8, 2 * WIDTH):
+                taps4x16(pk, idx, frs, ss, cs, out_re, out_im, j, sym)
+        for j in range(j8, n8, WIDTH):
             taps4x8(pk, idx, frs, ss, cs, out_re, out_im, j, sym)
         for j in range(n8, j_hi):
             k = idx[j]
