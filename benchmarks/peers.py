@@ -10,10 +10,10 @@ The simulator's rows: salkit's raw-data simulator (``benchmarks/fast_simulation.
 spotlight, dechirped) on as many scatterers x pulses x samples as the scene, the exact direct sum
 (timed on a subset, scaled) against the non-uniform FFT, its error against the direct sum.
 No window in either. Each setting is timed warm, runs interleaved between the libraries, best of
-``repeat``, each round starting a third of the list further on (on the project's VM a setting
-timed right after FFBP's runs, which take and free some 700 MB, ran 20-25 % slower than a heavier
-one timed after it: rotating the order gives every setting runs away from that spot); threads:
-numba's (salkit) and OMP_NUM_THREADS (FastSAR), both set to the cores.
+``repeat``, each round in its own seeded random order, so that no setting is always timed after the
+same one (on the project's VM a setting timed right after FFBP's runs, which take and free some
+700 MB, ran up to 25 % slower than the same work elsewhere); threads: numba's (salkit) and
+OMP_NUM_THREADS (FastSAR), both set to the cores.
 
 FastSAR is optional (``pip install 'salkit[peers]'``, never needed by ``make test``): without it
 this benchmark prints one line saying so and measures nothing.
@@ -95,9 +95,9 @@ def bench_peers(sizes=(1024,), repeat=3, only: str | None = None):
             for k, run in runs.items():  # warm: compiled, caches filled
                 result[k] = run()[sel]
             keys = list(runs)
-            for r in range(repeat):  # interleaved, each round rotated
-                shift = r * len(keys) // repeat
-                for k in keys[shift:] + keys[:shift]:
+            for r in range(repeat):  # interleaved, each round in its own (seeded) order
+                for i in np.random.default_rng(r).permutation(len(keys)):
+                    k = keys[i]
                     run = runs[k]
                     t0 = time.perf_counter()
                     run()
