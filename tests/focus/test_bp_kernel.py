@@ -7,8 +7,10 @@ import pytest
 
 from salkit import simulate
 from salkit.focus import phase_history
-from salkit.focus.bp_kernel import (SEGMENT, _anchors, _steps, backproject, pulse_contributions, segment_fits,
-                                    segment_plan)
+from salkit.focus.bp_kernel import (SEGMENT, _anchors, _steps, backproject, bp_kernel, kernel_coefficients,
+                                    kernel_profiles, pulse_contributions, segment_fits, segment_plan)
+from salkit.constants import SPEED_OF_LIGHT
+from salkit.focus.profiles import interpolation_of, range_profiles
 from salkit.geometry.ranges import range_offsets
 from salkit.geometry.collection import grid_axes, plane_from
 from salkit.params import parse_scenario
@@ -34,6 +36,31 @@ def test_image_is_the_sum_of_pulse_contributions():
     pts = np.stack([plane.points(np.full(rg.size, a), rg) for a in az]).reshape(-1, 3)
     c = pulse_contributions(ph.data, ph.freq, ph.positions, ph.reference_range, pts, np.ones(M))
     np.testing.assert_allclose(c.sum(axis=0).reshape(img.shape), img, rtol=1e-4, atol=1e-3 * np.abs(img).max())
+
+
+@pytest.mark.parametrize("interpolation", ["fitted", "linear"])
+def test_profiles_in_one_kept_buffer_give_the_same_image(interpolation):
+    """backproject writes every block's profiles into one buffer in the kernel's layout; the image
+    is bit for bit the one from each block's own profiles laid out by kernel_profiles."""
+    ph, plane, az, rg = _setup(SPOT, nx=16, ny=40)
+    P, M = ph.data.shape
+    W = np.ones((az.size, P), np.float32)
+    origin = plane.points(az, np.zeros_like(az))
+    img = backproject(ph.data, ph.freq, ph.positions, ph.reference_range, origin, plane.range, rg, W, np.ones(M),
+                      upsample=6, block=8, interpolation=interpolation)
+    re = np.zeros(img.shape, np.float32)
+    im = np.zeros(img.shape, np.float32)
+    D = range_offsets(ph.positions, ph.reference_range)
+    code = interpolation_of(interpolation).code
+    for a in range(0, P, 8):
+        b = min(P, a + 8)
+        prof, r0, dr, f_c = range_profiles(ph.data[a:b], ph.freq, 6, np.ones(M), True, interpolation)
+        kp, cf = kernel_profiles(prof, interpolation, M)
+        assert np.array_equal(cf, kernel_coefficients(interpolation, M, prof.shape[1]))
+        bp_kernel(kp, prof.shape[1], r0, 1.0 / dr, ph.positions[a:b].copy(), ph.reference_range[a:b].copy(), D[a:b],
+                  origin, np.asarray(plane.range, np.float64), rg, 2.0 * f_c / SPEED_OF_LIGHT, W[:, a:b].copy(), re, im,
+                  code, cf)
+    assert np.array_equal(img.real, re) and np.array_equal(img.imag, im)
 
 
 def test_point_at_200_km_peaks_at_pulses_times_samples():

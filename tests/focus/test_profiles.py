@@ -6,7 +6,8 @@ import pytest
 
 from salkit.constants import SPEED_OF_LIGHT
 from salkit.errors import ScenarioError
-from salkit.focus.profiles import INTERPOLATIONS, interpolation_of, keys_kernel, pack_profiles, range_profiles
+from salkit.focus.profiles import (INTERPOLATIONS, interpolation_of, keys_kernel, pack_profiles, pad_profiles,
+                                   profile_sampling, range_profiles, range_profiles_into)
 
 
 def _interpolate(name, samples, x, M=33, nfft=64):
@@ -114,3 +115,29 @@ def test_symmetric_coefficients_refuse_a_lopsided_kernel():
         symmetric_coefficients(lopsided, 0.5)
     with pytest.raises(ValueError, match="3 taps, must be even"):
         symmetric_coefficients(np.ones((3, 4)), 0.5)
+
+
+@pytest.mark.parametrize("interpolation", ["fitted", "linear"])
+def test_profiles_into_a_kept_buffer_are_range_profiles_bit_for_bit(interpolation):
+    """Blocks of pulses written one after another into one buffer, transformed in place, with the
+    four-tap layout's zero bins around them: each block's rows are range_profiles' padded, the bits
+    the same, and the rows a shorter last block leaves are not read."""
+    rng = np.random.default_rng(5)
+    M = 101
+    freq = 9.6e9 + np.arange(M) * 2e6
+    nfft, _ = profile_sampling(freq, 6)
+    work = np.zeros((8, 1 + nfft + 2), np.complex64)
+    for P in (8, 3):  # the second block shorter and into the buffer the first one filled
+        ph = rng.standard_normal((P, M)) + 1j * rng.standard_normal((P, M))
+        got = range_profiles_into(work, ph, freq, 6, np.hanning(M), True, interpolation, lead=1)
+        prof, r0, dr, f_c = range_profiles(ph, freq, 6, np.hanning(M), True, interpolation)
+        assert got == (r0, dr, f_c)
+        assert np.array_equal(work[:P].view(np.float32), pad_profiles(prof))
+
+
+def test_profiles_into_refuse_a_buffer_too_small():
+    freq = 9.6e9 + np.arange(16) * 2e6
+    with pytest.raises(ValueError, match="at least"):
+        range_profiles_into(np.zeros((2, 20), np.complex64), np.ones((2, 16)), freq, 2, np.ones(16))
+    with pytest.raises(ValueError, match="complex64"):
+        range_profiles_into(np.zeros((2, 40), np.complex128), np.ones((2, 16)), freq, 2, np.ones(16))

@@ -165,8 +165,9 @@ def backprojection_former(interpolation: str, default_upsample: int = BP_UPSAMPL
 def bp_memory(sizes: Sizes) -> float:
     """Bytes backprojection adds: one kernel call's upsampled range profiles (bounded by the call's
     pulses, :func:`salkit.focus.bp_kernel.profile_block`) at the sizes' upsampling, 16 bytes a bin:
-    the complex64 profile (transformed in place; linear and nearest read it as it is) and the
-    four-tap kernels' padded copy of it.
+    the complex64 buffer every block of the call is transformed into in place, in the layout the
+    kernel reads (:func:`salkit.focus.profiles.range_profiles_into`), counted twice (until 0.29.2
+    the four-tap kernels read a padded copy; the second half is now margin).
 
     Parameters
     ----------

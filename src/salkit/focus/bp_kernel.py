@@ -35,8 +35,8 @@ from ..geometry.ranges import range_offsets
 from ..signals.phase import sincos_cycles, sincos_cycles_scaled
 from ..constants import FFT_WORKERS, SPEED_OF_LIGHT
 from ..tolerances import BP_UPSAMPLE
-from .profiles import (interpolation_of, pack_profiles, pad_profiles, profile_length, range_profiles,
-                       symmetric_coefficients)
+from .profiles import (interpolation_of, pack_profiles, pad_profiles, profile_length, profile_sampling,
+                       range_profiles, range_profiles_into, symmetric_coefficients)
 from .simd import WIDTH, linear8, taps4x8, taps4x16, wide_vectors
 
 WORKERS = FFT_WORKERS
@@ -445,16 +445,44 @@ def kernel_profiles(prof: np.ndarray, interpolation: str, n_samples: int) -> tup
     >>> kernel_profiles(np.ones((2, 5), np.complex64), "linear", 2)[0].shape
     (2, 10)
     """
-    spec = interpolation_of(interpolation)
-    if spec.coefficients is None:
-        return np.ascontiguousarray(prof, np.complex64).view(np.float32), np.zeros(24, np.float32)
-    c = spec.coefficients(int(n_samples), int(prof.shape[1]))
-    cf = np.concatenate([np.ravel(c), symmetric_coefficients(c, 0.5)]).astype(np.float32)
+    cf = kernel_coefficients(interpolation, n_samples, prof.shape[1])
+    if interpolation_of(interpolation).coefficients is None:
+        return np.ascontiguousarray(prof, np.complex64).view(np.float32), cf
     return pad_profiles(prof), cf
 
 
-#: Bytes of one kernel call's range profiles (the upsampled FFT buffer and its packed copy): long
-#: pulses (many samples, high upsampling) go through in fewer pulses a call.
+def kernel_coefficients(interpolation: str, n_samples: int, n_bins: int) -> np.ndarray:
+    """The interpolation's coefficients as :func:`bp_kernel` reads them (:func:`kernel_profiles`).
+
+    Parameters
+    ----------
+    interpolation : {"linear", "nearest", "cubic", "fitted"}
+    n_samples : int
+        Frequencies a pulse.
+    n_bins : int
+        Bins a profile (the FFT length).
+
+    Returns
+    -------
+    float32 (24,)
+        16 tap-major polynomial coefficients, then the 8 of their even and odd parts about t = 1/2;
+        zeros for linear and nearest.
+
+    Examples
+    --------
+    >>> kernel_coefficients("cubic", 2, 5)[:4].tolist()
+    [0.0, -0.5, 1.0, -0.5]
+    """
+    spec = interpolation_of(interpolation)
+    if spec.coefficients is None:
+        return np.zeros(24, np.float32)
+    c = spec.coefficients(int(n_samples), int(n_bins))
+    return np.concatenate([np.ravel(c), symmetric_coefficients(c, 0.5)]).astype(np.float32)
+
+
+#: Bytes of one kernel call's range profiles, counted at 16 a bin (the buffer the blocks share is
+#: 8; :func:`salkit.focus.bp.bp_memory`): long pulses (many samples, high upsampling) go through in
+#: fewer pulses a call.
 PROFILE_BYTES = 128 * 2 ** 20
 
 
@@ -490,6 +518,10 @@ def backproject(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_ran
                 progress=None, linear_compensation: bool = True, out=None,
                 interpolation: str = "linear", segments: bool = True) -> np.ndarray:
     """Backproject a phase history onto a plane grid.
+
+    The pulses go through :func:`bp_kernel` in blocks, each block's range profiles transformed in
+    place into one buffer kept for the call, in the layout the kernel reads
+    (:func:`salkit.focus.profiles.range_profiles_into`).
 
     Parameters
     ----------
@@ -545,17 +577,22 @@ def backproject(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_ran
     rg = np.ascontiguousarray(rg, dtype=np.float64)
     row_origin = np.ascontiguousarray(row_origin, dtype=np.float64)
     D = range_offsets(positions, ref_range)
+    # one buffer for every block's profiles, in the layout the kernel reads (the four-tap kernels:
+    # one zero bin before, two after; :func:`kernel_profiles`), each block transformed in place
+    four_taps = interpolation_of(interpolation).coefficients is not None
+    lead, trail = (1, 2) if four_taps else (0, 0)
+    nfft, _ = profile_sampling(freq, upsample)
+    work = np.zeros((min(block, P), lead + nfft + trail), np.complex64)
+    cf = kernel_coefficients(interpolation, ph.shape[1], nfft)
     for a in range(0, P, block):
         b = min(P, a + block)
-        prof, r0, dr, f_c = range_profiles(ph[a:b], freq, upsample, range_window, linear_compensation,
-                                           interpolation)
+        r0, dr, f_c = range_profiles_into(work, ph[a:b], freq, upsample, range_window, linear_compensation,
+                                          interpolation, lead)
         cyc = 2.0 * f_c / SPEED_OF_LIGHT
-        kp, cf = kernel_profiles(prof, interpolation, ph.shape[1])
-        bp_kernel(kp, prof.shape[1], r0, 1.0 / dr,
+        bp_kernel(work[:b - a].view(np.float32), nfft, r0, 1.0 / dr,
                   np.ascontiguousarray(positions[a:b], dtype=np.float64),
                   np.ascontiguousarray(ref_range[a:b], dtype=np.float64), D[a:b], row_origin, rdir, rg, cyc,
                   np.ascontiguousarray(weight[:, a:b], dtype=np.float32), img_re, img_im, mode, cf, segments)
-        del prof, kp  # freed before the next call's profiles are made: one call's at a time (the estimate)
         if progress is not None:
             progress(b, P)
     if out is not None:

@@ -511,8 +511,50 @@ def range_profiles(ph: np.ndarray, freq: np.ndarray, upsample: int, range_window
     interpolation : {"linear", "nearest", "cubic", "fitted"}
         How the profiles will be read (:data:`INTERPOLATIONS`).
     """
+    nfft, _ = profile_sampling(freq, upsample)
+    prof = np.zeros((ph.shape[0], nfft), np.complex64)
+    r0, dr, f_c = range_profiles_into(prof, ph, freq, upsample, range_window, linear_compensation, interpolation)
+    return prof, r0, dr, f_c
+
+
+def range_profiles_into(work: np.ndarray, ph: np.ndarray, freq: np.ndarray, upsample: int,
+                        range_window: np.ndarray, linear_compensation: bool = False,
+                        interpolation: str = "linear", lead: int = 0):
+    """:func:`range_profiles` written into the rows of a buffer the caller keeps, bins ``lead`` to
+    ``lead + Nfft - 1`` of rows 0 to P - 1 (the transform in place): the backprojection kernel's
+    blocks of pulses reuse one buffer, already in the padded layout its four-tap reading needs
+    (:func:`pad_profiles`), instead of a new spectrum, profile and padded copy a block. The columns
+    outside those bins are not written: zeros stay zeros. The same bits as :func:`range_profiles`.
+
+    Parameters
+    ----------
+    work : complex64 (>= P, >= lead + Nfft), C-contiguous
+        The buffer (:func:`profile_sampling` gives Nfft).
+    ph, freq, upsample, range_window, linear_compensation, interpolation
+        As :func:`range_profiles`.
+    lead : int
+        Columns before bin 0.
+
+    Returns
+    -------
+    (r0, dr, f_c) : (float, float, float)
+        :func:`range_profiles`' last three: bin 0's differential range (m), the bin spacing (m)
+        and the reference frequency (Hz).
+
+    Examples
+    --------
+    >>> f = 1e10 + np.arange(8) * 1e6
+    >>> work = np.zeros((1, 1 + 16 + 2), np.complex64)
+    >>> _ = range_profiles_into(work, np.ones((1, 8)), f, 2, np.ones(8), lead=1)
+    >>> bool(np.array_equal(work[:, 1:17], range_profiles(np.ones((1, 8)), f, 2, np.ones(8))[0]))
+    True
+    """
     P, M = ph.shape
     nfft, dr = profile_sampling(freq, upsample)
+    if (work.dtype != np.complex64 or work.ndim != 2 or work.shape[0] < P or work.shape[1] < lead + nfft
+            or not work.flags.c_contiguous):
+        raise ValueError(f"work: complex64, C-contiguous, at least ({P}, {lead + nfft}) needed; got "
+                         f"{work.dtype} {work.shape}")
     h = M // 2
     # sample m goes to bin k = (m - h) mod nfft; the ramp exp(-j 2 pi k s / nfft), s = nfft // 2,
     # does the fftshift inside the transform (no scatter with an index array, no shifted copy)
@@ -521,9 +563,12 @@ def range_profiles(ph: np.ndarray, freq: np.ndarray, upsample: int, range_window
     if linear_compensation:
         wr = wr / _compensation(interpolation, M, nfft)
     ramp = (np.exp(-2j * np.pi * ((k * (nfft // 2)) % nfft) / nfft) * wr).astype(np.complex64)
-    buf = np.zeros((P, nfft), np.complex64)
+    buf = work[:P, lead:lead + nfft]
     np.multiply(ph[:, h:], ramp[h:], out=buf[:, :M - h])
+    buf[:, M - h:nfft - h] = 0
     np.multiply(ph[:, :h], ramp[:h], out=buf[:, nfft - h:])
     prof = sfft.ifft(buf, axis=1, workers=WORKERS, norm="forward", overwrite_x=True)
+    if not np.shares_memory(prof, buf):  # pocketfft wrote elsewhere
+        buf[...] = prof
     r0 = -(nfft // 2) * dr
-    return prof.astype(np.complex64, copy=False), r0, dr, float(freq[M // 2])
+    return r0, dr, float(freq[M // 2])
