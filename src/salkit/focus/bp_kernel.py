@@ -35,8 +35,8 @@ from ..geometry.ranges import range_offsets
 from ..signals.phase import sincos_cycles, sincos_cycles_scaled
 from ..constants import FFT_WORKERS, SPEED_OF_LIGHT
 from ..tolerances import BP_UPSAMPLE
-from .profiles import (interpolation_of, pack_profiles, pad_profiles, profile_length, profile_sampling,
-                       range_profiles, range_profiles_into, symmetric_coefficients)
+from .profiles import (FOUR_TAP_PADDING, interpolation_of, pack_profiles, pad_profiles, profile_length,
+                       profile_sampling, range_profiles, range_profiles_into, symmetric_coefficients)
 from .simd import WIDTH, linear8, taps4x8, taps4x16, wide_vectors
 
 WORKERS = FFT_WORKERS
@@ -580,7 +580,7 @@ def backproject(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_ran
     # one buffer for every block's profiles, in the layout the kernel reads (the four-tap kernels:
     # one zero bin before, two after; :func:`kernel_profiles`), each block transformed in place
     four_taps = interpolation_of(interpolation).coefficients is not None
-    lead, trail = (1, 2) if four_taps else (0, 0)
+    lead, trail = FOUR_TAP_PADDING if four_taps else (0, 0)
     nfft, _ = profile_sampling(freq, upsample)
     work = np.zeros((min(block, P), lead + nfft + trail), np.complex64)
     cf = kernel_coefficients(interpolation, ph.shape[1], nfft)

@@ -62,6 +62,11 @@ def pack_profiles(prof: np.ndarray) -> np.ndarray:
     return out
 
 
+#: Zero bins before and after each profile in the four-tap kernels' layout (:func:`pad_profiles`,
+#: :func:`range_profiles_into`): taps from bin - 1 to bin + 2 stay inside for every bin.
+FOUR_TAP_PADDING = (1, 2)
+
+
 def pad_profiles(prof: np.ndarray) -> np.ndarray:
     """(P, Nb) complex -> (P, 2 (Nb + 3)) float32: interleaved (re, im), one zero bin before and two
     after, so that four taps from bin - 1 to bin + 2 stay inside for every bin.
@@ -81,8 +86,9 @@ def pad_profiles(prof: np.ndarray) -> np.ndarray:
     [0.0, 0.0, 1.0, 2.0, 0.0, 0.0, 0.0, 0.0]
     """
     P, nb = prof.shape
-    out = np.zeros((P, nb + 3), np.complex64)
-    out[:, 1:nb + 1] = prof
+    lead, trail = FOUR_TAP_PADDING
+    out = np.zeros((P, lead + nb + trail), np.complex64)
+    out[:, lead:lead + nb] = prof
     return out.view(np.float32)
 
 
@@ -512,7 +518,7 @@ def range_profiles(ph: np.ndarray, freq: np.ndarray, upsample: int, range_window
         How the profiles will be read (:data:`INTERPOLATIONS`).
     """
     nfft, _ = profile_sampling(freq, upsample)
-    prof = np.zeros((ph.shape[0], nfft), np.complex64)
+    prof = np.empty((ph.shape[0], nfft), np.complex64)  # every bin written by range_profiles_into
     r0, dr, f_c = range_profiles_into(prof, ph, freq, upsample, range_window, linear_compensation, interpolation)
     return prof, r0, dr, f_c
 
