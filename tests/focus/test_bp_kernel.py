@@ -7,8 +7,9 @@ import pytest
 
 from salkit import simulate
 from salkit.focus import phase_history
-from salkit.focus.bp_kernel import (SEGMENT, _anchors, _steps, backproject, bp_kernel, kernel_coefficients,
-                                    kernel_profiles, pulse_contributions, segment_fits, segment_plan)
+from salkit.focus.bp_kernel import (LONG_LINE_SEGMENTS, SEGMENT, SHORT_SEGMENT, SHORT_STEP_ROUNDING, _anchors, _steps,
+                                    backproject, bp_kernel, kernel_coefficients, kernel_profiles, pulse_contributions,
+                                    segment_fits, segment_plan)
 from salkit.constants import SPEED_OF_LIGHT
 from salkit.focus.profiles import interpolation_of, range_profiles
 from salkit.geometry.ranges import range_offsets
@@ -94,24 +95,28 @@ def _line(cyc_per_m, height, ground, dg, ny=64, seed=0):
     return A, B, C, ref, rg, dR
 
 
+@pytest.mark.parametrize("short", [False, True])
 @pytest.mark.parametrize("wavelength, height, ground, dg", [
     (0.031, 7300.0, 3000.0, 0.2),     # X band, the wide-angle benchmark's geometry
     (1.55e-6, 5000.0, 2000.0, 0.01),  # airborne SAL
     (1.55e-6, 560e3, 100e3, 0.05),    # 560 km at 1.55 um: the long-range correction in the anchors
 ])
-def test_fast_path_gives_each_pixel_its_exact_offset_and_phase(wavelength, height, ground, dg):
+def test_fast_path_gives_each_pixel_its_exact_offset_and_phase(wavelength, height, ground, dg, short):
     cyc = 2.0 / wavelength
     A, B, C, ref, rg, dR = _line(cyc, height, ground, dg)
     r0, inv_dr = -50.0, 1.0 / 0.04
-    ok, step, trunc, quad = segment_plan(rg, cyc)
-    assert ok and step == pytest.approx(dg) and segment_fits(A, B, np.sqrt(A + rg * (B + rg)).min(), trunc, quad)
-    nseg = rg.size // SEGMENT
+    segment = SHORT_SEGMENT if short else SEGMENT
+    ok, step, trunc, quad = segment_plan(rg, cyc, segment)
+    rounding = {"rounding": SHORT_STEP_ROUNDING} if short else {}
+    assert ok and step == pytest.approx(dg)
+    assert segment_fits(A, B, np.sqrt(A + rg * (B + rg)).min(), trunc, quad, **rounding)
+    nseg = rg.size // segment
     anc, anci = np.empty((6, nseg), np.float32), np.empty(nseg, np.int32)
     idx, frs, ss, cs = (np.empty(rg.size, t) for t in (np.uint32, np.float32, np.float32, np.float32))
     corr = ref * cyc * 2.2e-16 * 6.3 > 1e-4
-    gcs = rg[0] + (np.arange(nseg) * SEGMENT + 0.5 * (SEGMENT - 1)) * step
+    gcs = rg[0] + (np.arange(nseg) * segment + 0.5 * (segment - 1)) * step
     _anchors(r0, inv_dr, A, B, C, ref, gcs, step, cyc, corr, anc, anci)
-    _steps(anc, anci, np.float32(inv_dr / cyc), np.float32(1.0), idx, frs, ss, cs)
+    _steps(anc, anci, nseg, np.float32(inv_dr / cyc), np.float32(1.0), idx, frs, ss, cs, short)
     x = (dR - r0) * inv_dr
     np.testing.assert_allclose(idx / 2 + frs, x, rtol=0, atol=1e-4)  # bins
     # the phase, against float64 reduced in cycles, within the float32 sin/cos polynomial's error
@@ -134,10 +139,45 @@ def test_fast_path_refuses_what_it_cannot_bound():
     assert not segment_fits(1e3 ** 2, 0.0, 1e3, *segment_plan(np.arange(64) * 0.5, cyc)[2:])
 
 
-@pytest.mark.parametrize("base", [SPOT, GEO])
-def test_fast_path_image_is_the_exact_paths(base):
-    ph, plane, az, rg = _setup(base, nx=8, ny=48)
+def test_short_segments_take_lines_the_long_ones_cannot_bound():
+    """1.55 um at 5 km with 2.5 cm pixels (the vehicle example's grid): the long segment's float32
+    rounding exceeds the budget, the short one's does not."""
+    cyc = 2.0 / 1.55e-6
+    A, B, C, ref, rg, dR = _line(cyc, 3000.0, 4000.0, 0.025)
+    R_min = np.sqrt(A + rg * (B + rg)).min()
+    assert not segment_fits(A, B, R_min, *segment_plan(rg, cyc)[2:])
+    assert segment_fits(A, B, R_min, *segment_plan(rg, cyc, SHORT_SEGMENT)[2:], SHORT_STEP_ROUNDING)
+
+
+COARSE = merge(SPOT, waveform__bandwidth=3e9, processing__grid__dy=0.025, processing__grid__plane="ground")
+# 2.5 cm ground pixels at 5 km (the vehicle example): the long segments' rounding exceeds the budget
+
+
+def _segments_taken(ph, plane, az, rg):
+    """The segment length the kernel takes for the first line and the middle pulse where the line lies
+    inside the profile (0: the exact path)."""
     P, M = ph.data.shape
+    o = plane.points(az, np.zeros_like(az))[0] - ph.positions[P // 2]
+    A, B = o @ o, 2 * o @ np.asarray(plane.range)
+    R_min = np.sqrt(A + rg * (B + rg)).min()
+    cyc = 2 * ph.freq[M // 2] / SPEED_OF_LIGHT
+    long_ok, _, trunc, quad = segment_plan(rg, cyc)
+    if long_ok and rg.size // SEGMENT >= LONG_LINE_SEGMENTS and segment_fits(A, B, R_min, trunc, quad):
+        return SEGMENT
+    short_ok, _, trunc, quad = segment_plan(rg, cyc, SHORT_SEGMENT)
+    return SHORT_SEGMENT if short_ok and segment_fits(A, B, R_min, trunc, quad, SHORT_STEP_ROUNDING) else 0
+
+
+@pytest.mark.parametrize("base, ny, segment", [
+    (SPOT, 48, SHORT_SEGMENT),     # a short line: sixteen-pixel segments
+    (merge(SPOT, processing__grid__ny=800, receiver__adc_rate=80e6), 800, SEGMENT),  # a long line: thirty-two
+    (GEO, 48, SHORT_SEGMENT),
+    (merge(COARSE, processing__grid__ny=800, receiver__adc_rate=80e6), 800, SHORT_SEGMENT),  # 32 pixels round too much
+])
+def test_fast_path_image_is_the_exact_paths(base, ny, segment):
+    ph, plane, az, rg = _setup(base, nx=4, ny=ny)
+    P, M = ph.data.shape
+    assert _segments_taken(ph, plane, az, rg) == segment
     args = (ph.data, ph.freq, ph.positions, ph.reference_range, plane.points(az, np.zeros_like(az)), plane.range, rg,
             np.ones((az.size, P), np.float32), np.ones(M))
     for interpolation in ("linear", "fitted"):

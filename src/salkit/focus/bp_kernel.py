@@ -14,10 +14,11 @@ only the phase reduced to [-pi, pi) (in cycles, float64) is handed to a float32 
 polynomial. The result is exact at 200 km and 560 km range at 1.55 um, where float32 ranges
 (~1.5 cm precision at 200 km) would destroy the image.
 
-Fast path: on a uniform line, the float64 work is done once a segment of :data:`SEGMENT` pixels,
-at its centre (range, profile offset, phase in cycles, and the phase's Taylor coefficients along
-the line); each pixel's offset and phase is a float32 cubic step from there, sixteen lanes a
-vector, with the step's whole cycles a pixel taken out in float64 so that its float32 sum stays
+Fast path: on a uniform line, the float64 work is done once a segment of :data:`SEGMENT` pixels
+(:data:`SHORT_SEGMENT` on lines shorter than :data:`LONG_LINE_SEGMENTS` segments and where the
+longer step's rounding would exceed the budget), at its centre (range, profile offset, phase in cycles, and the phase's Taylor coefficients along
+the line); each pixel's offset and phase is a float32 cubic step from there, a vector of lanes at
+a time, with the step's whole cycles a pixel taken out in float64 so that its float32 sum stays
 a few cycles. Its truncation and rounding are bounded line by line (:func:`segment_fits`); a
 line whose bound exceeds :data:`SEGMENT_TOLERANCE` (1.9e-5 rad) takes the exact path. On the
 wide-angle X-band benchmark the image is unchanged to 0.1 dB of error against the exact former
@@ -71,23 +72,51 @@ def _differential_range(g, A, B, C, refp, h):
     return R, dR + (C + q - dR * (R + refp)) * h
 
 
-#: Pixels a segment of the first pass's fast path (one vector of float32 lanes): each pixel's range
-#: is its segment's float64 anchor plus a float32 Taylor step.
-SEGMENT = 16
+#: Pixels a segment of the first pass's fast path on lines of at least :data:`LONG_LINE_SEGMENTS`
+#: segments: each pixel's range is its segment's float64 anchor plus a float32 Taylor step. 32
+#: since 0.30.0 (16 before): half the float64 anchors, whose square root and division take four
+#: lanes a vector on AVX2 code (the kernel 3-5 % faster there on 1024-pixel lines; the same on
+#: AVX-512 code), for a Taylor step twice as long (its error bounds, :func:`segment_fits`).
+SEGMENT = 32
+
+#: Pixels a segment on shorter lines, and on lines that the long segment does not fit
+#: (:func:`segment_fits`: at short range with fine pixels, e.g. 1.55 um at 5 km with 2.5 cm ground
+#: pixels, its float32 rounding exceeds the budget): the fast path as it was before 0.30.0; the
+#: exact path where this does not fit either.
+SHORT_SEGMENT = 16
 
 #: The segment's pixels' offsets from its centre, pixels.
 LANES = np.arange(SEGMENT, dtype=np.float32) - np.float32((SEGMENT - 1) / 2)
+
+#: Segments of :data:`SEGMENT` pixels a line must hold for them to be used (else
+#: :data:`SHORT_SEGMENT`): the float64 anchors' loop takes its vector path only from 20 iterations
+#: on with AVX2 code and 24 with AVX-512 code (LLVM's run-time check), and a shorter line's anchors
+#: would be computed one at a time.
+LONG_LINE_SEGMENTS = 24
+
+#: :data:`LANES` for :data:`SHORT_SEGMENT`.
+SHORT_LANES = np.arange(SHORT_SEGMENT, dtype=np.float32) - np.float32((SHORT_SEGMENT - 1) / 2)
 
 #: The fast path's phase error budget, cycles (1.9e-5 rad: an error floor near -94 dB, beside the
 #: float32 sin/cos polynomial's 4.3e-6): the bound on the Taylor step's truncation and float32 rounding
 #: (:func:`segment_fits`) must stay under it, or the line takes the exact float64 path.
 SEGMENT_TOLERANCE = 3.0e-6
 
+#: The float32 rounding of the Taylor step's phase beyond its quadratic part, cycles: the anchor's
+#: phase and the linear part, each reduced to half a cycle (the latter a pixel), reach 0.5 +
+#: (:data:`SEGMENT` - 1) / 4 cycles (8.25), and their sum and the coefficients' roundings stay under
+#: 2^-22 of that (2.0e-6 cycles; 7.5e-7 from the operations and 4.6e-7 from the linear coefficient's
+#: float32 rounding at worst).
+STEP_ROUNDING = 2.0 ** -22 * (0.5 + 0.25 * (SEGMENT - 1))
+
+#: :data:`STEP_ROUNDING` for :data:`SHORT_SEGMENT` (4.25 cycles: 1.0e-6).
+SHORT_STEP_ROUNDING = 2.0 ** -22 * (0.5 + 0.25 * (SHORT_SEGMENT - 1))
+
 
 @njit(cache=True, fastmath=True, error_model="numpy", boundscheck=False)
 def _anchors(r0, inv_dr, A, B, C, refp, gcs, dg, cyc_per_m, corr, anc, anci):
-    """The fast path's anchors: each segment's centre g (``gcs``) in float64 as the exact path computes a
-    pixel (range, the long-range correction when ``corr``, profile offset, phase in cycles), and
+    """The fast path's anchors: each segment's centre g (``gcs``, one a segment) in float64 as the
+    exact path computes a pixel (range, the long-range correction when ``corr``, profile offset, phase in cycles), and
     there the phase's Taylor coefficients in cycles a pixel, E1, E2, E3 (from R', R''/2, R'''/6).
 
     ``anci[k]`` gets the whole bins of the offset; ``anc[:, k]`` its fraction, the phase reduced
@@ -97,7 +126,7 @@ def _anchors(r0, inv_dr, A, B, C, refp, gcs, dg, cyc_per_m, corr, anc, anci):
     h = 0.5 / refp if corr else 0.0  # the correction multiplied by 0 where it is not needed
     hb = 0.5 * B
     hc2 = 0.5 * max(A - hb * hb, 0.0)  # half the perpendicular distance squared: 1 - R'^2 = c^2 / R^2
-    for k in range(anci.shape[0]):
+    for k in range(gcs.shape[0]):
         g = gcs[k]  # read, not computed from k: an int64 to float64 conversion has no packed instruction on AVX2
         R, dR = _differential_range(g, A, B, C, refp, h)
         x = (dR - r0) * inv_dr
@@ -117,33 +146,48 @@ def _anchors(r0, inv_dr, A, B, C, refp, gcs, dg, cyc_per_m, corr, anc, anci):
         anc[5, k] = np.float32(-r1 * r2 * iR * dg * dg * dg * cyc_per_m)
 
 
+@njit(cache=True, inline="always", fastmath=True, error_model="numpy", boundscheck=False)
+def _segment_steps(anc, anci, k, lanes, fq, idx, frs, ss):
+    """Segment k's pixels (``lanes``: their offsets from its centre, a module constant, so that the
+    loop has a constant count), :func:`_steps`' first loop."""
+    xf = anc[0, k]
+    ca = anc[1, k]
+    e1 = anc[2, k]
+    e1r = anc[3, k]
+    e2 = anc[4, k]
+    e3 = anc[5, k]
+    xb = anci[k]
+    n = lanes.shape[0]
+    for m in range(n):
+        j = k * n + m
+        t = lanes[m]
+        hi = t * (e2 + t * e3)
+        xl = xf + t * (e1 + hi) * fq
+        fl = np.floor(xl)
+        idx[j] = np.uint32(xb + np.int32(fl)) << np.uint32(1)
+        frs[j] = xl - fl
+        cy = ca + t * (e1r + hi)
+        ss[j] = cy - np.rint(cy)  # the phase in cycles, for the sin and cos
+
+
 @njit(cache=True, fastmath=True, error_model="numpy", boundscheck=False)
-def _steps(anc, anci, fq, w, idx, frs, ss, cs):
-    """Pass 1 of the fast path's segments, sixteen lanes a vector: each pixel t pixels from its
-    segment's centre (:data:`LANES`) steps t (E1 + t (E2 + t E3)) cycles from the anchor
+def _steps(anc, anci, nseg, fq, w, idx, frs, ss, cs, short):
+    """Pass 1 of the fast path's ``nseg`` segments of :data:`SEGMENT` pixels (``short``:
+    :data:`SHORT_SEGMENT`), a vector of lanes at a time: each pixel t pixels from its segment's
+    centre (:data:`LANES`, :data:`SHORT_LANES`) steps t (E1 + t (E2 + t E3)) cycles from the anchor
     (:func:`_anchors`), its profile offset that times ``fq`` bins a cycle, its phase the same
     step with E1 - n, so that the float32 sum stays a few cycles and its rounding ~1e-7 cycles."""
-    for k in range(anci.shape[0]):
-        xf = anc[0, k]
-        ca = anc[1, k]
-        e1 = anc[2, k]
-        e1r = anc[3, k]
-        e2 = anc[4, k]
-        e3 = anc[5, k]
-        xb = anci[k]
-        for m in range(SEGMENT):
-            j = k * SEGMENT + m
-            t = LANES[m]
-            hi = t * (e2 + t * e3)
-            xl = xf + t * (e1 + hi) * fq
-            fl = np.floor(xl)
-            idx[j] = np.uint32(xb + np.int32(fl)) << np.uint32(1)
-            frs[j] = xl - fl
-            cy = ca + t * (e1r + hi)
-            ss[j] = cy - np.rint(cy)  # the phase in cycles, for the loop below
+    if short:
+        for k in range(nseg):
+            _segment_steps(anc, anci, k, SHORT_LANES, fq, idx, frs, ss)
+        n = nseg * SHORT_SEGMENT
+    else:
+        for k in range(nseg):
+            _segment_steps(anc, anci, k, LANES, fq, idx, frs, ss)
+        n = nseg * SEGMENT
     # the sin and cos in a loop of their own: with the steps' constants too, sixteen AVX2 registers
     # spill (10 % of the kernel's time there)
-    for j in range(anci.shape[0] * SEGMENT):
+    for j in range(n):
         ss[j], cs[j] = sincos_cycles_scaled(ss[j], w)
 
 
@@ -203,7 +247,7 @@ def _pass2(pk, idx, frs, ss, cs, out_re, out_im, mode, cf, j_lo, j_hi):
 
 @njit(cache=True, fastmath=True, error_model="numpy", boundscheck=False)
 def _bp_row(pk, r0, inv_dr, hi, A, B, C, refp, rg, cyc_per_m, w, out_re, out_im, idx, frs, ss, cs, mode, cf, inside,
-            fast, gcs, dg, anc, anci):
+            fast, short, nseg, gcs, dg, anc, anci):
     """One pulse into one range line, in two passes so that both vectorise.
 
     Pass 1 (SIMD): the pixel's profile offset and fraction, and the sin and cos of its phase
@@ -212,9 +256,10 @@ def _bp_row(pk, r0, inv_dr, hi, A, B, C, refp, rg, cyc_per_m, w, out_re, out_im,
     g (B + g) (a range's rounding, 6e-11 m at 560 km, would otherwise reach the phase), phase
     reduced to [-0.5, 0.5) cycles in float64 and handed to the float32 sin/cos polynomial. Fast
     path (``fast``: the line inside the profile, uniform, its Taylor steps within
-    :data:`SEGMENT_TOLERANCE`): segments of :data:`SEGMENT` pixels, each anchored at its centre
-    by the exact computation (:func:`_anchors`), its pixels a float32 Taylor step from it
-    (:func:`_steps`). Pass 2: :func:`_pass2`.
+    :data:`SEGMENT_TOLERANCE`): segments of :data:`SEGMENT` pixels (``short``:
+    :data:`SHORT_SEGMENT`), centres ``gcs``, each anchored at its centre by the exact computation
+    (:func:`_anchors`), its pixels a float32 Taylor step from it (:func:`_steps`). Pass 2:
+    :func:`_pass2`.
     """
     ny = rg.shape[0]
     h = 0.5 / refp
@@ -224,8 +269,8 @@ def _bp_row(pk, r0, inv_dr, hi, A, B, C, refp, rg, cyc_per_m, w, out_re, out_im,
     j0 = 0
     if fast:
         _anchors(r0, inv_dr, A, B, C, refp, gcs, dg, cyc_per_m, corr, anc, anci)
-        _steps(anc, anci, np.float32(inv_dr / cyc_per_m), w, idx, frs, ss, cs)
-        j0 = anci.shape[0] * SEGMENT
+        _steps(anc, anci, nseg, np.float32(inv_dr / cyc_per_m), w, idx, frs, ss, cs, short)
+        j0 = nseg * (SHORT_SEGMENT if short else SEGMENT)
     if corr:
         for j in range(j0, ny):
             _, dR = _differential_range(rg[j], A, B, C, refp, h)
@@ -249,11 +294,11 @@ def _bp_row(pk, r0, inv_dr, hi, A, B, C, refp, rg, cyc_per_m, w, out_re, out_im,
 
 
 @njit(cache=True)
-def segment_plan(rg, cyc_per_m):
+def segment_plan(rg, cyc_per_m, segment=SEGMENT):
     """Whether a line's pixels can take the first pass's fast path, and its error bounds' factors.
 
     The line must be uniform (g_j = g_0 + j dg to 1e-7 cycles of phase) and at least one
-    :data:`SEGMENT` long. Every pixel is then within u_max = (SEGMENT - 1) dg / 2 of its segment's
+    ``segment`` long. Every pixel is then within u_max = (segment - 1) dg / 2 of its segment's
     centre; :func:`segment_fits` bounds the phase's Taylor step from there with these factors.
 
     Parameters
@@ -262,6 +307,8 @@ def segment_plan(rg, cyc_per_m):
         Range coordinates of the pixels, m.
     cyc_per_m : float
         Cycles of phase a metre of differential range.
+    segment : int
+        Pixels a segment (:data:`SEGMENT` or :data:`SHORT_SEGMENT`).
 
     Returns
     -------
@@ -282,15 +329,15 @@ def segment_plan(rg, cyc_per_m):
     """
     ny = rg.shape[0]
     dg = (rg[-1] - rg[0]) / max(ny - 1, 1)
-    uniform = ny >= SEGMENT and dg != 0.0
+    uniform = ny >= segment and dg != 0.0
     for j in range(ny):
         uniform &= abs(rg[j] - (rg[0] + j * dg)) * cyc_per_m < 1e-7
-    u_max = 0.5 * (SEGMENT - 1) * abs(dg)
+    u_max = 0.5 * (segment - 1) * abs(dg)
     return uniform, dg, cyc_per_m * u_max ** 4 / 24.0, 2.0 ** -23 * cyc_per_m * u_max * u_max
 
 
 @njit(cache=True, inline="always")
-def segment_fits(A, B, R_min, trunc, quad):
+def segment_fits(A, B, R_min, trunc, quad, rounding=STEP_ROUNDING):
     """Whether the line |x - p|^2 = A + g (B + g) keeps the fast path's phase error within
     :data:`SEGMENT_TOLERANCE`.
 
@@ -299,8 +346,9 @@ def segment_fits(A, B, R_min, trunc, quad):
     distance R from the antenna, and R'' = c^2 / R^3. On the pixels' part of the line (R >=
     ``R_min``) the Taylor step then errs by at most ``trunc`` min(3 / c^3, 15 c^2 / R_min^5)
     cycles (its remainder), and its float32 sum by 2^-22 times its size: ``quad`` c^2 / R_min^3
-    for the quadratic part and 1e-6 for the rest (the anchor's phase and the linear part,
-    reduced to half a cycle a pixel: 4.25 cycles at most).
+    for the quadratic part and ``rounding`` for the rest (the anchor's phase and the linear part,
+    reduced to half a cycle a pixel: :data:`STEP_ROUNDING` for :data:`SEGMENT`,
+    :data:`SHORT_STEP_ROUNDING` for :data:`SHORT_SEGMENT`).
 
     Parameters
     ----------
@@ -310,6 +358,8 @@ def segment_fits(A, B, R_min, trunc, quad):
         Least distance from the antenna to the pixels' part of the line, m.
     trunc, quad : float
         From :func:`segment_plan`.
+    rounding : float
+        The rest's float32 rounding, cycles.
 
     Returns
     -------
@@ -322,7 +372,16 @@ def segment_fits(A, B, R_min, trunc, quad):
     k4 = 15.0 * c2 / (r3 * R_min * R_min)
     if c2 > 0.0:
         k4 = min(k4, 3.0 / (c2 * math.sqrt(c2)))
-    return trunc * k4 + quad * c2 / r3 + 1e-6 < SEGMENT_TOLERANCE
+    return trunc * k4 + quad * c2 / r3 + rounding < SEGMENT_TOLERANCE
+
+
+@njit(cache=True)
+def _centres(g0, dg, nseg, segment):
+    """The centres of ``nseg`` segments of ``segment`` pixels from ``g0``, spacing ``dg``, m."""
+    gcs = np.empty(nseg)
+    for k in range(nseg):
+        gcs[k] = g0 + (k * segment + 0.5 * (segment - 1)) * dg
+    return gcs
 
 
 #: Image rows a thread takes together: each pulse's profile is read for all of them in turn, so it
@@ -364,7 +423,8 @@ def bp_kernel(profiles, n_bins, r0, inv_dr, pos, ref, D, row_origin, rdir, rg, c
         The four-tap kernels' coefficients (:func:`kernel_profiles`), unused by the others.
     segments : bool
         Let lines take the first pass's fast path where they fit it (:func:`segment_plan`,
-        :func:`segment_fits`); False computes every pixel by the exact float64 path.
+        :func:`segment_fits`: segments of :data:`SEGMENT` pixels, else of :data:`SHORT_SEGMENT`);
+        False computes every pixel by the exact float64 path.
     """
     nx = row_origin.shape[0]
     ny = rg.shape[0]
@@ -374,14 +434,14 @@ def bp_kernel(profiles, n_bins, r0, inv_dr, pos, ref, D, row_origin, rdir, rg, c
     g_hi = rg.max()
     n_tiles = (nx + ROW_TILE - 1) // ROW_TILE
     segmented, dg, trunc, quad = segment_plan(rg, cyc_per_m)
-    segmented &= segments
-    nseg = ny // SEGMENT
-    gcs = np.empty(nseg)  # the segments' centres
-    for k in range(nseg):
-        gcs[k] = rg[0] + (k * SEGMENT + 0.5 * (SEGMENT - 1)) * dg
+    segmented &= segments and ny // SEGMENT >= LONG_LINE_SEGMENTS
+    short_ok, _, trunc_s, quad_s = segment_plan(rg, cyc_per_m, SHORT_SEGMENT)
+    short_ok &= segments
+    gcs = _centres(rg[0], dg, ny // SEGMENT, SEGMENT)  # the segments' centres
+    gcs_s = _centres(rg[0], dg, ny // SHORT_SEGMENT, SHORT_SEGMENT)
     for t in prange(n_tiles):
-        anc = np.empty((6, nseg), np.float32)
-        anci = np.empty(nseg, np.int32)
+        anc = np.empty((6, gcs_s.shape[0]), np.float32)
+        anci = np.empty(gcs_s.shape[0], np.int32)
         idx = np.empty(ny, np.uint32)
         frs = np.empty(ny, np.float32)
         ss = np.empty(ny, np.float32)
@@ -409,8 +469,11 @@ def bp_kernel(profiles, n_bins, r0, inv_dr, pos, ref, D, row_origin, rdir, rg, c
                 x_hi = (math.sqrt(max(A + g_lo * (B + g_lo), A + g_hi * (B + g_hi))) - ref[p] - r0) * inv_dr
                 inside = (x_lo >= 1.0) & (x_hi <= hi - 1.0)
                 fast = segmented and inside and segment_fits(A, B, R_min, trunc, quad)
+                short = (not fast) and short_ok and inside and segment_fits(A, B, R_min, trunc_s, quad_s,
+                                                                            SHORT_STEP_ROUNDING)
                 _bp_row(profiles[p], r0, inv_dr, hi, A, B, C, ref[p], rg, cyc_per_m, np.float32(w),
-                        img_re[i], img_im[i], idx, frs, ss, cs, mode, cf, inside, fast, gcs, dg, anc, anci)
+                        img_re[i], img_im[i], idx, frs, ss, cs, mode, cf, inside, fast or short, short,
+                        ny // SHORT_SEGMENT if short else ny // SEGMENT, gcs_s if short else gcs, dg, anc, anci)
 
 
 def kernel_profiles(prof: np.ndarray, interpolation: str, n_samples: int) -> tuple[np.ndarray, np.ndarray]:
