@@ -9,7 +9,7 @@ from salkit import simulate
 from salkit.focus import phase_history
 from salkit.focus.bp_kernel import (LONG_LINE_SEGMENTS, SEGMENT, SHORT_SEGMENT, SHORT_STEP_ROUNDING, _anchors, _steps,
                                     backproject, bp_kernel, kernel_coefficients, kernel_profiles, pulse_contributions,
-                                    segment_fits, segment_plan)
+                                    segment_fits, segment_plan, step_rounding, SEGMENT_TOLERANCE)
 from salkit.constants import SPEED_OF_LIGHT
 from salkit.focus.profiles import interpolation_of, range_profiles
 from salkit.geometry.ranges import range_offsets
@@ -185,3 +185,10 @@ def test_fast_path_image_is_the_exact_paths(base, ny, segment):
         exact = backproject(*args, interpolation=interpolation, segments=False)
         assert np.abs(fast - exact).max() < 3e-5 * np.abs(exact).max()
         assert not np.array_equal(fast, exact)  # the fast path was taken
+
+
+def test_step_rounding_grows_with_the_segment():
+    """The rounding bound is 2^-22 of the step's largest phase, 0.5 + (segment - 1) / 4 cycles."""
+    assert step_rounding(16) == pytest.approx(2.0 ** -22 * 4.25)
+    assert step_rounding(32) == pytest.approx(2.0 ** -22 * 8.25)
+    assert step_rounding(32) < SEGMENT_TOLERANCE  # room left for the truncation and the quadratic part

@@ -16,13 +16,13 @@ polynomial. The result is exact at 200 km and 560 km range at 1.55 um, where flo
 
 Fast path: on a uniform line, the float64 work is done once a segment of :data:`SEGMENT` pixels
 (:data:`SHORT_SEGMENT` on lines shorter than :data:`LONG_LINE_SEGMENTS` segments and where the
-longer step's rounding would exceed the budget), at its centre (range, profile offset, phase in cycles, and the phase's Taylor coefficients along
-the line); each pixel's offset and phase is a float32 cubic step from there, a vector of lanes at
-a time, with the step's whole cycles a pixel taken out in float64 so that its float32 sum stays
-a few cycles. Its truncation and rounding are bounded line by line (:func:`segment_fits`); a
-line whose bound exceeds :data:`SEGMENT_TOLERANCE` (1.9e-5 rad) takes the exact path. On the
-wide-angle X-band benchmark the image is unchanged to 0.1 dB of error against the exact former
-and the kernel about 1.3x faster.
+longer step's rounding would exceed the budget), at its centre (range, profile offset, phase in
+cycles, and the phase's Taylor coefficients along the line); each pixel's offset and phase is a
+float32 cubic step from there, a vector of lanes at a time, with the step's whole cycles a pixel
+taken out in float64 so that its float32 sum stays a few cycles. Its truncation and rounding are
+bounded line by line (:func:`segment_fits`); a line whose bound exceeds :data:`SEGMENT_TOLERANCE`
+(1.9e-5 rad) takes the exact path. On the wide-angle X-band benchmark the image is unchanged to
+0.1 dB of error against the exact former and the kernel about 1.3x faster.
 """
 from __future__ import annotations
 
@@ -103,22 +103,45 @@ SHORT_LANES = np.arange(SHORT_SEGMENT, dtype=np.float32) - np.float32((SHORT_SEG
 #: (:func:`segment_fits`) must stay under it, or the line takes the exact float64 path.
 SEGMENT_TOLERANCE = 3.0e-6
 
-#: The float32 rounding of the Taylor step's phase beyond its quadratic part, cycles: the anchor's
-#: phase and the linear part, each reduced to half a cycle (the latter a pixel), reach 0.5 +
-#: (:data:`SEGMENT` - 1) / 4 cycles (8.25), and their sum and the coefficients' roundings stay under
-#: 2^-22 of that (2.0e-6 cycles; 7.5e-7 from the operations and 4.6e-7 from the linear coefficient's
-#: float32 rounding at worst).
-STEP_ROUNDING = 2.0 ** -22 * (0.5 + 0.25 * (SEGMENT - 1))
 
-#: :data:`STEP_ROUNDING` for :data:`SHORT_SEGMENT` (4.25 cycles: 1.0e-6).
-SHORT_STEP_ROUNDING = 2.0 ** -22 * (0.5 + 0.25 * (SHORT_SEGMENT - 1))
+
+def step_rounding(segment: int) -> float:
+    """The float32 rounding of a ``segment``-pixel Taylor step's phase beyond its quadratic part,
+    cycles: the anchor's phase and the linear part, each reduced to half a cycle (the latter a
+    pixel), reach 0.5 + (segment - 1) / 4 cycles, and their sum and the coefficients' roundings stay
+    under 2^-22 of that (32 pixels: 8.25 cycles, 2.0e-6; 7.5e-7 from the operations and 4.6e-7 from
+    the linear coefficient's float32 rounding at worst).
+
+    Parameters
+    ----------
+    segment : int
+        Pixels a segment.
+
+    Returns
+    -------
+    float
+        Cycles.
+
+    Examples
+    --------
+    >>> round(step_rounding(16) * 1e6, 3)
+    1.013
+    """
+    return 2.0 ** -22 * (0.5 + 0.25 * (segment - 1))
+
+
+#: :func:`step_rounding` of :data:`SEGMENT` (2.0e-6 cycles).
+STEP_ROUNDING = step_rounding(SEGMENT)
+
+#: :func:`step_rounding` of :data:`SHORT_SEGMENT` (1.0e-6 cycles).
+SHORT_STEP_ROUNDING = step_rounding(SHORT_SEGMENT)
 
 
 @njit(cache=True, fastmath=True, error_model="numpy", boundscheck=False)
 def _anchors(r0, inv_dr, A, B, C, refp, gcs, dg, cyc_per_m, corr, anc, anci):
     """The fast path's anchors: each segment's centre g (``gcs``, one a segment) in float64 as the
-    exact path computes a pixel (range, the long-range correction when ``corr``, profile offset, phase in cycles), and
-    there the phase's Taylor coefficients in cycles a pixel, E1, E2, E3 (from R', R''/2, R'''/6).
+    exact path computes a pixel (range, the long-range correction when ``corr``, profile offset,
+    phase in cycles), and there the phase's Taylor coefficients in cycles a pixel, E1, E2, E3 (from R', R''/2, R'''/6).
 
     ``anci[k]`` gets the whole bins of the offset; ``anc[:, k]`` its fraction, the phase reduced
     to [-0.5, 0.5] cycles with n/2 added (n = rint(E1): the step's integer part n t, t a
@@ -248,7 +271,7 @@ def _pass2(pk, idx, frs, ss, cs, out_re, out_im, mode, cf, j_lo, j_hi):
 
 @njit(cache=True, fastmath=True, error_model="numpy", boundscheck=False)
 def _bp_row(pk, r0, inv_dr, hi, A, B, C, refp, rg, cyc_per_m, w, out_re, out_im, idx, frs, ss, cs, mode, cf, inside,
-            fast, short, nseg, gcs, dg, anc, anci):
+            fast, short, gcs, dg, anc, anci):
     """One pulse into one range line, in two passes so that both vectorise.
 
     Pass 1 (SIMD): the pixel's profile offset and fraction, and the sin and cos of its phase
@@ -270,8 +293,10 @@ def _bp_row(pk, r0, inv_dr, hi, A, B, C, refp, rg, cyc_per_m, w, out_re, out_im,
     j0 = 0
     if fast:
         _anchors(r0, inv_dr, A, B, C, refp, gcs, dg, cyc_per_m, corr, anc, anci)
+        segment = SHORT_SEGMENT if short else SEGMENT
+        nseg = ny // segment  # ``gcs`` may hold more (:func:`_centres`)
         _steps(anc, anci, nseg, np.float32(inv_dr / cyc_per_m), w, idx, frs, ss, cs, short)
-        j0 = nseg * (SHORT_SEGMENT if short else SEGMENT)
+        j0 = nseg * segment
     if corr:
         for j in range(j0, ny):
             _, dR = _differential_range(rg[j], A, B, C, refp, h)
@@ -475,7 +500,7 @@ def bp_kernel(profiles, n_bins, r0, inv_dr, pos, ref, D, row_origin, rdir, rg, c
                                                                             SHORT_STEP_ROUNDING)
                 _bp_row(profiles[p], r0, inv_dr, hi, A, B, C, ref[p], rg, cyc_per_m, np.float32(w),
                         img_re[i], img_im[i], idx, frs, ss, cs, mode, cf, inside, fast or short, short,
-                        ny // SHORT_SEGMENT if short else ny // SEGMENT, gcs_s if short else gcs, dg, anc, anci)
+                        gcs_s if short else gcs, dg, anc, anci)
 
 
 def kernel_profiles(prof: np.ndarray, interpolation: str, n_samples: int) -> tuple[np.ndarray, np.ndarray]:

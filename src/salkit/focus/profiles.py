@@ -1,7 +1,8 @@
 """Range profiles for backprojection: the upsampled profiles of a block of pulses, packed for the
 kernel, and the interpolations that read them between bins (:data:`INTERPOLATIONS`: linear,
-nearest, Keys cubic, and a four-tap kernel fitted to the profile's band), each with its mean frequency response, divided out of the spectrum before
-the profiles are formed (the largest part of an interpolation's error).
+nearest, Keys cubic, and a four-tap kernel fitted to the profile's band), each with its mean
+frequency response, divided out of the spectrum before the profiles are formed (the largest part
+of an interpolation's error).
 """
 from __future__ import annotations
 
