@@ -126,17 +126,22 @@ def _widening(tb, n):
     return range_widening(_tree(pos, np.ones(pos.shape[0], np.float32), 16, 4), pos, ig, tb.frequency)
 
 
+def line_geometry(plane: str):
+    """A 30-degree arc's image plane (origin, e_a, e_r), one of its pulses as a line centre, and
+    400 range samples of 5 cm from 10 m short of the origin: polar lines the kernels build."""
+    tb = wide_angle(30.0, 0.5, plane, pulses=64)
+    pl = tb.image_plane()
+    o, ea, er = (np.ascontiguousarray(v, np.float64) for v in (pl.origin, pl.azimuth, pl.range))
+    c = tb.positions[20]
+    return o, ea, er, c, float(np.linalg.norm(o - c)) - 10.0, 0.05, 400
+
+
 def test_polar_tangent_follows_the_kernels_polar_lines():
     """dx/dr of polar_tangent against central differences along the lines the kernels build
     (ffbp_leaves._polar_line), over a ground plane 7.3 km below (where the lines bend) and a slant
     plane, at direction cosines across a wide beam."""
     for plane in ("ground", "slant"):
-        tb = wide_angle(30.0, 0.5, plane, pulses=64)
-        pl = tb.image_plane()
-        o, ea, er = (np.ascontiguousarray(v, np.float64) for v in (pl.origin, pl.azimuth, pl.range))
-        c = tb.positions[20]
-        dr, n = 0.05, 400
-        r0 = float(np.linalg.norm(o - c)) - 10.0
+        o, ea, er, c, r0, dr, n = line_geometry(plane)
         for u in (-0.3, 0.0, 0.12, 0.4):
             X0, X1, X2, rl = (np.empty(n) for _ in range(4))
             lo, top = _polar_line(o, ea, er, c, r0, dr, n, u, X0, X1, X2, rl)

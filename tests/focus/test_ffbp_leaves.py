@@ -241,3 +241,28 @@ def test_leaf_store_keeps_each_lines_span_and_zeros_the_rest():
     want[1, :] = lines[1, :6]
     want[3, :1] = lines[3, :1]
     assert np.array_equal(out, want)
+
+
+@pytest.mark.parametrize("plane", ["ground", "slant"])
+def test_polar_line_terms_are_the_lines_points_less_the_centre(plane):
+    """A merge's view of a polar line (f + r u e_a + t e_r = X - c, each point's r and t) is the
+    line the leaves build (_polar_line) less its centre, from the same first point on; with the
+    plane's origin moved 6400 km along e_a (the same plane) the line is the same to the float64
+    rounding of that distance (1e-9 m)."""
+    from salkit.focus.ffbp_leaves import _polar_line, _polar_line_terms
+
+    from .test_ffbp import line_geometry
+    o, ea, er, c, r0, dr, n = line_geometry(plane)
+    for u in (-0.3, 0.0, 0.12, 0.4):
+        X0, X1, X2, rl, tl, rl2 = (np.empty(n) for _ in range(6))
+        lo, top = _polar_line(o, ea, er, c, r0, dr, n, u, X0, X1, X2, rl2)
+        lo_t, top_t, f0, f1, f2 = _polar_line_terms(o, ea, er, c, r0, dr, n, u, rl, tl)
+        assert (lo_t, top_t) == (lo, top) and top - lo > 10
+        m = top + 1 - lo
+        X = np.stack([X0, X1, X2], axis=1)[lo:top + 1]
+        E = np.array([f0, f1, f2]) + rl[:m, None] * u * ea + tl[:m, None] * er
+        assert np.array_equal(rl[:m], rl2[lo:top + 1])
+        assert np.abs(E - (X - c)).max() < 1e-8
+        assert np.allclose((E @ ea) / np.linalg.norm(E, axis=1), u, rtol=0, atol=1e-12)  # the line's u
+        far = _polar_line_terms(o + 6.4e6 * ea, ea, er, c, r0, dr, n, u, rl2, X0)
+        assert far[:2] == (lo, top) and np.abs(np.array(far[2:]) - [f0, f1, f2]).max() < 1e-8

@@ -3,6 +3,7 @@ the last step's angle cut along a row and its range pass along the row equal the
 least-squares interpolation at the row's exact angles and ranges, and its point-by-point path
 equals its separable row pass."""
 import numpy as np
+import pytest
 
 from salkit import focus, simulate
 from salkit.focus import phase_history
@@ -43,23 +44,25 @@ def test_final_step_point_by_point_agrees(monkeypatch):
 
 
 
-def test_row_angle_cut_equals_float64_interpolation_at_the_exact_angles():
+@pytest.mark.parametrize("os_", [1.75, 3.0])
+def test_row_angle_cut_equals_float64_interpolation_at_the_exact_angles(os_):
     """On a row along the range axis u = along / r exactly: the cut at each child range bin is
     the 8-tap least-squares interpolation across the child's angle rows at that u, here against
     a float64 evaluation, on rows crossing many angle samples (both signs of ``along``), with
-    the bins whose taps leave the grid set to zero."""
+    the bins whose taps leave the grid set to zero. The kernel enters as its mirrored pairs' even
+    and odd parts (the default's and ``accuracy: high``'s oversampling)."""
     rng = np.random.default_rng(3)
     nu, nb = 300, 2000
     G = (rng.standard_normal((2, nu, nb)) + 1j * rng.standard_normal((2, nu, nb))).astype(np.complex64)
     Gf = G.view(np.float32)
-    os_, r0, dr, u0, du = 1.75, 9000.0, 0.5, -0.052, 3.5e-4
-    cp = polynomial_weights(8, os_)
+    r0, dr, u0, du = 9000.0, 0.5, -0.052, 3.5e-4
+    cps = symmetric_coefficients(polynomial_weights(8, os_), 0.0).astype(np.float32)
     fb = np.empty(nb)
     s2 = np.empty(2 * nb, np.float32)
     h2 = np.empty(2 * nb, np.float32)
     for along in (-445.0, 2.0, 467.0):
         j_lo, j_hi = 50, 1900
-        _angle_cut_row(Gf, 1, nu, along, r0, dr, u0, 1.0 / du, j_lo, j_hi, cp, h2, fb, s2)
+        _angle_cut_row(Gf, 1, nu, along, r0, dr, u0, 1.0 / du, j_lo, j_hi, cps, h2, fb, s2)
         got = h2[:2 * (j_hi + 1 - j_lo)].view(np.complex64)
         j = np.arange(j_lo, j_hi + 1)
         f = (along / (r0 + j * dr) - u0) / du

@@ -750,7 +750,7 @@ def _fused_leaves(scratch, out, factor, leaves, children, parent, dr, o, ea, er,
         cax, own = _child_axes(fr)
         _merge_kernel(G.view(np.float32), u0[a:b], du[a:b], nu[a:b], r0[a:b], nr[a:b], centres[a:b], rho[a:b], dr,
                       factor, o, ea, er, pcen[p], prho[p], pu0[p], pdu[p], pnu[p], pr0[p], dr, pnr[p], cyc_per_m, tu,
-                      tr, out[p], _chunks(), cax, own)
+                      tr, out[p].view(np.float32), _chunks(), cax, own)
 
 
 def _child_axes(frame):
@@ -1267,7 +1267,7 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
         else:  # the first merge reads leaves on their own axes where they are so
             cax, own = _child_axes(lay.frame if done == 1 else None)
             _merge_kernel(G.view(np.float32), u0, du, nu, r0, nr, centres, rho, dr, f_level, o, ea, er, pcen, prho,
-                          pu0, pdu, pnu, pr0, dr, pnr, cyc_per_m, tu, tr, out, _chunks(), cax, own)
+                          pu0, pdu, pnu, pr0, dr, pnr, cyc_per_m, tu, tr, out.view(np.float32), _chunks(), cax, own)
         G, centres, rho = out, pcen, prho
         u0, du, nu, r0, nr = pu0, pdu, pnu, pr0, pnr
         samples.append(int((nu * nr).sum()))
@@ -1283,9 +1283,9 @@ def ffbp(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.
     res = np.array([rho_residual(o, c, r) for c, r in zip(centres, rho)])
     if _rows_in_order(o, er, centres, rg):
         cr = polynomial_weights(range_taps, os_sub)
-        _final_rows(G.view(np.float32), u0, du, nu, r0, nr, centres, rho, res, dr, o, ea, er, az, rg, cyc_per_m,
-                    polynomial_weights(ANGLE_TAPS, oversample_angle), cr,
-                    symmetric_coefficients(cr, 0.0).astype(np.float32), img, _chunks())
+        cps = symmetric_coefficients(polynomial_weights(ANGLE_TAPS, oversample_angle), 0.0).astype(np.float32)
+        _final_rows(G.view(np.float32), u0, du, nu, r0, nr, centres, rho, res, dr, o, ea, er, az, rg, cyc_per_m, cps,
+                    cr, symmetric_coefficients(cr, 0.0).astype(np.float32), img, _chunks())
     else:
         _final_kernel(G, u0, du, nu, r0, nr, centres, rho, res, dr, o, ea, er, az, rg, cyc_per_m, tu, tr, img)
     if spare is not None:  # the image alone keeps its buffer: shrunk in place (realloc), no copy

@@ -209,6 +209,32 @@ def _polar_line(o, ea, er, cen, r0, dr, n, u, X0, X1, X2, rl):
     return lo, n - 1
 
 
+@njit(cache=True, fastmath=True, inline="always", error_model="numpy")
+def _polar_line_terms(o, ea, er, cen, r0, dr, n, u, rl, tl):
+    """One polar line (:func:`_polar_line`) as what a merge reads of it: its points are
+    X - ``cen`` = f + r u e_a + t(r) e_r, f the foot of ``cen`` on the plane less ``cen`` (from
+    o - cen, never from X: the points' coordinates are not formed), t(r) = sqrt(r^2 (1 - u^2) - h^2).
+    Writes each point's range r into ``rl`` and t(r) into ``tl`` from index 0 (the line's point lo
+    at 0: two numbers a point, where the points and their offsets took seven), and returns lo, top
+    (as :func:`_polar_line`) and f."""
+    lo, h2, w, _, _, _ = _line_start(o, ea, er, cen, r0, dr, n, u)
+    d0 = o[0] - cen[0]  # f = d less its parts along e_a and e_r, d = o - cen
+    d1 = o[1] - cen[1]
+    d2 = o[2] - cen[2]
+    da = d0 * ea[0] + d1 * ea[1] + d2 * ea[2]
+    dg = d0 * er[0] + d1 * er[1] + d2 * er[2]
+    f0 = d0 - da * ea[0] - dg * er[0]
+    f1 = d1 - da * ea[1] - dg * er[1]
+    f2 = d2 - da * ea[2] - dg * er[2]
+    if lo >= n:
+        return n, -1, f0, f1, f2
+    for q in range(n - lo):
+        r = r0 + (lo + q) * dr
+        rl[q] = r
+        tl[q] = math.sqrt(max(r * r * w - h2, 0.0))
+    return lo, n - 1, f0, f1, f2
+
+
 @njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
 def _leaf_line(prof, rp0, inv_drp, pos, ref, qrel, weight, first, count, cen, X0, X1, X2, r_line, cyc_per_m, tr,
                acc2, fr_b, sn_b, cs_b, t2, E0, E1, E2, h, series):

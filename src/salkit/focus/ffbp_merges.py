@@ -9,8 +9,8 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .ffbp_leaves import (RAMP2, SEG_FRACTION, SEG_MAX, _angle_at, _line_scratch, _polar_line, _range_pass, _reduced,
-                          _rotate, _segment_end, _sincos_pass, _sincos_reduced, _tap_range)
+from .ffbp_leaves import (RAMP2, SEG_FRACTION, SEG_MAX, _angle_at, _line_scratch, _polar_line_terms, _range_pass,
+                          _reduced, _rotate, _segment_end, _sincos_pass, _sincos_reduced, _tap_range)
 from .simd import WIDTH, taps8_sym7, wide_vectors
 
 #: Taps of the angular interpolation (the range one has 6).
@@ -41,18 +41,20 @@ def _eight_rows(Gf, c, b0, g, n2):
 
 
 @njit(cache=True, fastmath=True, inline="always", error_model="numpy")
-def _child_point(k, E0, E1, E2, Ea, r_line, q0, q1, q2, qq, da, inv_dr, r0s, inv_du, u0s, cyc_per_m, dk):
+def _child_point(k, r_line, t_line, na, nb, nc, aa, ab, ac, inv_dr, r0s, inv_du, u0s, cyc_per_m, dk):
     """A line's point k against a child (:func:`_accumulate_child`'s first pass): its child range
     bin and angle index, and the phase k ((|X - c_child| - rho_child) - (|X - c_line| - rho_line))
-    in cycles, from small differences."""
-    num = q0 * E0[k] + q1 * E1[k] + q2 * E2[k] + qq  # |X - c_child|^2 - |X - c_line|^2
+    in cycles, from small differences. The point's r and t (:func:`_polar_line_terms`) enter
+    |X - c_child|^2 - |X - c_line|^2 = na + nb r + nc t and (X - c_child).a = aa + ab r + ac t."""
     rl = r_line[k]
+    tk = t_line[k]
+    num = na + nb * rl + nc * tk
     rc = math.sqrt(rl * rl + num)
-    return rc * inv_dr - r0s, (Ea[k] + da) / rc * inv_du - u0s, num / (rc + rl) * cyc_per_m - dk
+    return rc * inv_dr - r0s, (aa + ab * rl + ac * tk) / rc * inv_du - u0s, num / (rc + rl) * cyc_per_m - dk
 
 
 @njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
-def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, dr_child, da, E0, E1, E2, Ea, r_line, q0, q1, q2, qq, drho,
+def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, dr_child, r_line, t_line, na, nb, nc, aa, ab, ac, drho,
                       cyc_per_m, tu, tr, acc2, fr_b, v_b, sn_b, cs_b, h2, t2):
     """Add child ``c`` (baseband, interpolated, phase restored) along one parent line of points.
 
@@ -60,18 +62,20 @@ def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, dr_child, da, E0, E1, E2, 
     line's accumulator, interleaved too. The parent line crosses the child's range bins in order,
     so the 2-D interpolation separates (14 taps instead of 48). Pass 1 (SIMD): every point's child
     range bin (fraction) and angle index, and the phase k (r_c - r) as float32 sin/cos after a
-    float64 reduction. The line's points enter as E = X - c_line, |E| = ``r_line`` and E.e_a
-    (``Ea``), the child's centre as q = 2 (c_line - c_child), qq = |q / 2|^2 and da = (q / 2).e_a:
-    |X - c_child|^2 = r_line^2 + q.E + qq, whose last two terms are the numerator of the phase's
-    small difference too (about 14 float64 operations a point where the point's own coordinates
-    took 25). Pass 2: the child cut along the line in angle at each of its own range bins
-    the line crosses; pass 3: that cut interpolated in range at every point. Both run in segments
+    float64 reduction. The line's points enter as their ranges ``r_line`` and across-track terms
+    ``t_line`` (X - c_line = f + r u e_a + t e_r:
+    :func:`~salkit.focus.ffbp_leaves._polar_line_terms`), the child as six numbers
+    (:func:`_line_from_children`): |X - c_child|^2 = r^2 + na + nb r + nc t, whose last three terms
+    are the numerator of the phase's small difference too, and (X - c_child).a = aa + ab r + ac t
+    along the child's angle axis a: two arrays read a point where the point's offsets took five.
+    Pass 2: the child cut along the line in angle at each of its own range bins the line crosses;
+    pass 3: that cut interpolated in range at every point. Both run in segments
     where the fraction keeps its integer part, moves by at most ``SEG_FRACTION`` and departs from
     linear by at most ``SEG_CURVATURE``: there the weights are linear along the segment and the
     inner loops run over contiguous floats (SIMD). Points are assumed valid (the caller trims the
     line to its points in the plane).
     """
-    n = E0.shape[0]
+    n = r_line.shape[0]
     inv_dr = 1.0 / dr_child
     inv_du = 1.0 / duc
     r0s = r0c * inv_dr
@@ -80,13 +84,13 @@ def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, dr_child, da, E0, E1, E2, 
     T = tr.shape[0] - 1
     if FUSED_SINCOS:
         for k in range(n):
-            fr_b[k], v_b[k], cyc = _child_point(k, E0, E1, E2, Ea, r_line, q0, q1, q2, qq, da, inv_dr, r0s, inv_du,
-                                                u0s, cyc_per_m, dk)
+            fr_b[k], v_b[k], cyc = _child_point(k, r_line, t_line, na, nb, nc, aa, ab, ac, inv_dr, r0s, inv_du, u0s,
+                                                cyc_per_m, dk)
             sn_b[k], cs_b[k] = _sincos_reduced(cyc)
     else:
         for k in range(n):
-            fr_b[k], v_b[k], cyc = _child_point(k, E0, E1, E2, Ea, r_line, q0, q1, q2, qq, da, inv_dr, r0s, inv_du,
-                                                u0s, cyc_per_m, dk)
+            fr_b[k], v_b[k], cyc = _child_point(k, r_line, t_line, na, nb, nc, aa, ab, ac, inv_dr, r0s, inv_du, u0s,
+                                                cyc_per_m, dk)
             sn_b[k] = _reduced(cyc)
         _sincos_pass(sn_b, cs_b, n, np.float32(1.0))
     if n < 2:
@@ -164,80 +168,70 @@ def _accumulate_child(Gf, c, u0c, duc, nuc, r0c, nrc, dr_child, da, E0, E1, E2, 
 
 
 @njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
-def _line_from_children(Gf, c0, c1, cu0, cdu, cnu, cr0, cnr, ccen, crho, lcen, lrho, dr_child, ea, cax, own, X0, X1,
-                        X2, r_line, cyc_per_m, tu, tr, orow, E0, E1, E2, Ea, acc2, fr_b, v_b, sn_b, cs_b, h2, t2):
-    """Children c0 .. c1 - 1 summed along one parent's polar line of points into ``orow``, each
-    interpolated and moved from its baseband to the line's: exp(j k ((|X - c_child| - rho_child)
-    - (|X - c_line| - rho_line))), ``r_line`` = |X - c_line|. The range differences are formed
-    from small ones: |X - a|^2 - |X - b|^2 = (b - a).(2 (X - b) + (b - a)). The children's direction
-    cosines are to ``ea``, or with ``own`` to each child's own axis ``cax[c]`` (leaves on their own
-    axes, :mod:`salkit.focus.ffbp_axes`: E.t formed again for each child). The rest are the
-    caller's scratch (:func:`_line_scratch`), sliced here to the line: no allocation per line."""
-    m = X0.shape[0]
-    E0 = E0[:m]
-    E1 = E1[:m]
-    E2 = E2[:m]
-    Ea = Ea[:m]
-    acc2 = acc2[:2 * m]
+def _line_from_children(Gf, c0, c1, cu0, cdu, cnu, cr0, cnr, ccen, crho, lcen, lrho, dr_child, ea, er, cax, own, u, f0,
+                        f1, f2, r_line, t_line, cyc_per_m, tu, tr, acc2, fr_b, v_b, sn_b, cs_b, h2, t2):
+    """Children c0 .. c1 - 1 summed along one parent's polar line of points into ``acc2`` (the line's
+    samples in the parent's grid as float32 (re, im), zeroed by the caller), each interpolated and
+    moved from its baseband to the line's: exp(j k ((|X - c_child| - rho_child) - (|X - c_line| -
+    rho_line))). The points enter as X - c_line = f + r u e_a + t e_r (direction cosine ``u``, f =
+    (f0, f1, f2), each point's r and t in ``r_line`` and ``t_line``:
+    :func:`~salkit.focus.ffbp_leaves._polar_line_terms`). With d = c_line - c_child, each child is
+    six numbers (:func:`_child_point`): |X - c_child|^2 - |X - c_line|^2 = 2 d.(X - c_line) + |d|^2 =
+    (2 d.f + |d|^2) + (2 u d.e_a) r + (2 d.e_r) t, and (X - c_child).a = (f + d).a + (u e_a.a) r +
+    (e_r.a) t, a the children's angle axis ``ea``, or with ``own`` each child's own ``cax[c]``
+    (leaves on their own axes, :mod:`salkit.focus.ffbp_axes`). The rest are the caller's scratch
+    (:func:`_line_scratch`), sliced here to the line: no allocation per line."""
+    m = r_line.shape[0]
     fr_b = fr_b[:m]
     v_b = v_b[:m]
     sn_b = sn_b[:m]
     cs_b = cs_b[:m]
     t2 = t2[:2 * m]
-    for k in range(m):
-        E0[k] = X0[k] - lcen[0]
-        E1[k] = X1[k] - lcen[1]
-        E2[k] = X2[k] - lcen[2]
-        Ea[k] = E0[k] * ea[0] + E1[k] * ea[1] + E2[k] * ea[2]
-    for k in range(2 * m):
-        acc2[k] = np.float32(0.0)
     for c in range(c0, c1):
-        q0 = lcen[0] - ccen[c, 0]
-        q1 = lcen[1] - ccen[c, 1]
-        q2 = lcen[2] - ccen[c, 2]
-        if own:
-            ta0 = cax[c, 0]
-            ta1 = cax[c, 1]
-            ta2 = cax[c, 2]
-            for k in range(m):
-                Ea[k] = E0[k] * ta0 + E1[k] * ta1 + E2[k] * ta2
-            da = q0 * ta0 + q1 * ta1 + q2 * ta2
-        else:
-            da = q0 * ea[0] + q1 * ea[1] + q2 * ea[2]
-        _accumulate_child(Gf, c, cu0[c], cdu[c], cnu[c], cr0[c], cnr[c], dr_child,
-                          da, E0, E1, E2, Ea, r_line, 2.0 * q0, 2.0 * q1,
-                          2.0 * q2, q0 * q0 + q1 * q1 + q2 * q2, crho[c] - lrho, cyc_per_m, tu, tr, acc2, fr_b, v_b,
-                          sn_b, cs_b, h2, t2)
-    for k in range(m):
-        orow[k] = complex(acc2[2 * k], acc2[2 * k + 1])
+        d0 = lcen[0] - ccen[c, 0]
+        d1 = lcen[1] - ccen[c, 1]
+        d2 = lcen[2] - ccen[c, 2]
+        a0, a1, a2 = (cax[c, 0], cax[c, 1], cax[c, 2]) if own else (ea[0], ea[1], ea[2])
+        na = 2.0 * (d0 * f0 + d1 * f1 + d2 * f2) + (d0 * d0 + d1 * d1 + d2 * d2)
+        nb = 2.0 * u * (d0 * ea[0] + d1 * ea[1] + d2 * ea[2])
+        nc = 2.0 * (d0 * er[0] + d1 * er[1] + d2 * er[2])
+        aa = (f0 + d0) * a0 + (f1 + d1) * a1 + (f2 + d2) * a2
+        ab = u * (ea[0] * a0 + ea[1] * a1 + ea[2] * a2)
+        ac = er[0] * a0 + er[1] * a1 + er[2] * a2
+        _accumulate_child(Gf, c, cu0[c], cdu[c], cnu[c], cr0[c], cnr[c], dr_child, r_line, t_line, na, nb, nc, aa,
+                          ab, ac, crho[c] - lrho, cyc_per_m, tu, tr, acc2, fr_b, v_b, sn_b, cs_b, h2, t2)
 
 
 @njit(parallel=True, nogil=True, cache=True, fastmath=True, error_model="numpy")
 def _merge_kernel(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, dr_child, factor, o, ea, er, cen, rho, u0, du, nu, r0, dr,
-                  nr, cyc_per_m, tu, tr, out, chunks, cax, own):
-    """Merge ``factor`` consecutive child sub-images into each parent's polar grid (the children's
-    direction cosines to ``ea``, or with ``own`` to their own axes ``cax``, (n_child, 3))."""
-    S, NU, NR = out.shape
+                  nr, cyc_per_m, tu, tr, outf, chunks, cax, own):
+    """Merge ``factor`` consecutive child sub-images into each parent's polar grid, ``outf`` (float32
+    (re, im) interleaved along range, (parents, angles, 2 ranges): the children's sums are added into
+    it in place). The children's direction cosines are to ``ea``, or with ``own`` to their own axes
+    ``cax``, (n_child, 3)."""
+    S, NU, NR2 = outf.shape
+    NR = NR2 // 2
     n_child = Gf.shape[0]
     n_jobs = S * NU
     n_chunks = max(1, min(n_jobs, chunks))
     for ch in prange(n_chunks):
-        X0, X1, X2, rl, E0, E1, E2, fr_b, v_b, sn_b, cs_b, acc2, t2, h2, Ea = _line_scratch(NR, Gf.shape[2])
+        _, _, _, rl, tl, _, _, fr_b, v_b, sn_b, cs_b, _, t2, h2, _ = _line_scratch(NR, Gf.shape[2])
         for job in range(ch * n_jobs // n_chunks, (ch + 1) * n_jobs // n_chunks):
             s = job // NU
             iu = job % NU
-            orow = out[s, iu]
-            for k in range(NR):  # every sample written (the grids are reused buffers, not zeroed)
-                orow[k] = 0j
+            orow = outf[s, iu]
+            for k in range(NR2):  # every sample written (the grids are reused buffers, not zeroed)
+                orow[k] = np.float32(0.0)
             if iu >= nu[s]:
                 continue
-            lo, top = _polar_line(o, ea, er, cen[s], r0[s], dr, nr[s], u0[s] + iu * du[s], X0, X1, X2, rl)
+            u = u0[s] + iu * du[s]
+            lo, top, f0, f1, f2 = _polar_line_terms(o, ea, er, cen[s], r0[s], dr, nr[s], u, rl, tl)
             if top < lo:
                 continue
+            m = top + 1 - lo
             _line_from_children(Gf, s * factor, min(s * factor + factor, n_child), cu0, cdu, cnu, cr0, cnr, ccen,
-                                crho, cen[s], rho[s], dr_child, ea, cax, own, X0[lo:top + 1], X1[lo:top + 1],
-                                X2[lo:top + 1], rl[lo:top + 1], cyc_per_m, tu, tr, out[s, iu, lo:top + 1], E0, E1, E2,
-                                Ea, acc2, fr_b, v_b, sn_b, cs_b, h2, t2)
+                                crho, cen[s], rho[s], dr_child, ea, er, cax, own, u, f0, f1, f2, rl[:m], tl[:m],
+                                cyc_per_m, tu, tr, orow[2 * lo:2 * (top + 1)], fr_b, v_b, sn_b, cs_b, h2, t2)
 
 
 @njit(cache=True, fastmath=True, inline="always", error_model="numpy")
@@ -305,26 +299,27 @@ def _final_kernel(G, cu0, cdu, cnu, cr0, cnr, ccen, crho, cres, dr_child, o, ea,
 
 
 @njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
-def _angle_cut_bins(Gf, c, nuc, fb, j_lo, m, cp, h2, s2):
+def _angle_cut_bins(Gf, c, nuc, fb, j_lo, m, cps, h2, s2):
     """The child cut in angle at its range bins j_lo .. j_lo + m - 1, each at its own angle index
     ``fb[q]`` (float64), into ``h2`` (float32 (re, im) interleaved; zero where the taps leave the
-    grid). The weights are evaluated at every bin from their polynomials ``cp``
-    (:func:`~salkit.focus.ffbp_leaves.polynomial_weights`, 8 taps, degree 6), in runs of one
-    integer angle index whose inner loop runs over contiguous floats (SIMD): no segments, for cuts
+    grid). The weights are evaluated at every bin from their polynomials, given as the symmetric
+    kernel's even and odd parts ``cps`` (float32 (28,):
+    :func:`~salkit.focus.profiles.symmetric_coefficients` about s = 0 of
+    :func:`~salkit.focus.ffbp_leaves.polynomial_weights`, 8 taps, degree 6), in runs of one integer
+    angle index whose inner loop runs over contiguous floats (SIMD): no segments, for cuts
     whose angle moves by a sizeable part of a sample within a few bins. (In the merges, where
     segments of linear weights are long, this was slower: 0.95 s against 0.88 s for the four
     merges at 4096^2 on the wide-angle arc.) ``s2`` (float32, 2 m) is scratch.
     """
     ha = ANGLE_TAPS // 2 - 1
-    # the coefficients as scalars: loop invariants the vector loop keeps in registers or broadcasts
-    c00, c01, c02, c03, c04, c05, c06 = cp[0, 0], cp[0, 1], cp[0, 2], cp[0, 3], cp[0, 4], cp[0, 5], cp[0, 6]
-    c10, c11, c12, c13, c14, c15, c16 = cp[1, 0], cp[1, 1], cp[1, 2], cp[1, 3], cp[1, 4], cp[1, 5], cp[1, 6]
-    c20, c21, c22, c23, c24, c25, c26 = cp[2, 0], cp[2, 1], cp[2, 2], cp[2, 3], cp[2, 4], cp[2, 5], cp[2, 6]
-    c30, c31, c32, c33, c34, c35, c36 = cp[3, 0], cp[3, 1], cp[3, 2], cp[3, 3], cp[3, 4], cp[3, 5], cp[3, 6]
-    c40, c41, c42, c43, c44, c45, c46 = cp[4, 0], cp[4, 1], cp[4, 2], cp[4, 3], cp[4, 4], cp[4, 5], cp[4, 6]
-    c50, c51, c52, c53, c54, c55, c56 = cp[5, 0], cp[5, 1], cp[5, 2], cp[5, 3], cp[5, 4], cp[5, 5], cp[5, 6]
-    c60, c61, c62, c63, c64, c65, c66 = cp[6, 0], cp[6, 1], cp[6, 2], cp[6, 3], cp[6, 4], cp[6, 5], cp[6, 6]
-    c70, c71, c72, c73, c74, c75, c76 = cp[7, 0], cp[7, 1], cp[7, 2], cp[7, 3], cp[7, 4], cp[7, 5], cp[7, 6]
+    # the kernel is symmetric (tap 7 - b at -s weighs as tap b at s: c[7 - b, d] = (-1)^d c[b, d]),
+    # so sum_b c[b, d] x_b = sum_{b < 4} c[b, d] (x_b +- x_{7 - b}): the pairs' sums for even d,
+    # differences for odd d, 28 multiply-adds a float where the eight taps took 56. The coefficients
+    # as scalars (loop invariants): pair b's even ones cps[7 b] .. cps[7 b + 3], odd ones after
+    e00, e02, e04, e06, o01, o03, o05 = cps[0], cps[1], cps[2], cps[3], cps[4], cps[5], cps[6]
+    e10, e12, e14, e16, o11, o13, o15 = cps[7], cps[8], cps[9], cps[10], cps[11], cps[12], cps[13]
+    e20, e22, e24, e26, o21, o23, o25 = cps[14], cps[15], cps[16], cps[17], cps[18], cps[19], cps[20]
+    e30, e32, e34, e36, o31, o33, o35 = cps[21], cps[22], cps[23], cps[24], cps[25], cps[26], cps[27]
     q = 0
     while q < m:
         iu = int(math.floor(fb[q]))
@@ -346,21 +341,29 @@ def _angle_cut_bins(Gf, c, nuc, fb, j_lo, m, cp, h2, s2):
             ss[2 * p + 1] = v
         g = 2 * (j_lo + q)
         x0, x1, x2, x3, x4, x5, x6, x7 = _eight_rows(Gf, c, iu - ha, g, n2)
-        for r in range(n2):  # sum_d s^d sum_b c[b, d] x_b: Horner over d
-            y6 = c06 * x0[r] + c16 * x1[r] + c26 * x2[r] + c36 * x3[r] + c46 * x4[r] + c56 * x5[r] + c66 * x6[r] + c76 * x7[r]
-            y5 = c05 * x0[r] + c15 * x1[r] + c25 * x2[r] + c35 * x3[r] + c45 * x4[r] + c55 * x5[r] + c65 * x6[r] + c75 * x7[r]
-            y4 = c04 * x0[r] + c14 * x1[r] + c24 * x2[r] + c34 * x3[r] + c44 * x4[r] + c54 * x5[r] + c64 * x6[r] + c74 * x7[r]
-            y3 = c03 * x0[r] + c13 * x1[r] + c23 * x2[r] + c33 * x3[r] + c43 * x4[r] + c53 * x5[r] + c63 * x6[r] + c73 * x7[r]
-            y2 = c02 * x0[r] + c12 * x1[r] + c22 * x2[r] + c32 * x3[r] + c42 * x4[r] + c52 * x5[r] + c62 * x6[r] + c72 * x7[r]
-            y1 = c01 * x0[r] + c11 * x1[r] + c21 * x2[r] + c31 * x3[r] + c41 * x4[r] + c51 * x5[r] + c61 * x6[r] + c71 * x7[r]
-            y0 = c00 * x0[r] + c10 * x1[r] + c20 * x2[r] + c30 * x3[r] + c40 * x4[r] + c50 * x5[r] + c60 * x6[r] + c70 * x7[r]
+        for r in range(n2):  # sum_d s^d sum_b c[b, d] x_b: Horner over d, the taps in mirrored pairs
+            p0 = x0[r] + x7[r]
+            p1 = x1[r] + x6[r]
+            p2 = x2[r] + x5[r]
+            p3 = x3[r] + x4[r]
+            m0 = x0[r] - x7[r]
+            m1 = x1[r] - x6[r]
+            m2 = x2[r] - x5[r]
+            m3 = x3[r] - x4[r]
+            y6 = e06 * p0 + e16 * p1 + e26 * p2 + e36 * p3
+            y5 = o05 * m0 + o15 * m1 + o25 * m2 + o35 * m3
+            y4 = e04 * p0 + e14 * p1 + e24 * p2 + e34 * p3
+            y3 = o03 * m0 + o13 * m1 + o23 * m2 + o33 * m3
+            y2 = e02 * p0 + e12 * p1 + e22 * p2 + e32 * p3
+            y1 = o01 * m0 + o11 * m1 + o21 * m2 + o31 * m3
+            y0 = e00 * p0 + e10 * p1 + e20 * p2 + e30 * p3
             t = ss[r]
             hh[r] = y0 + t * (y1 + t * (y2 + t * (y3 + t * (y4 + t * (y5 + t * y6)))))
         q = e + 1
 
 
 @njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
-def _angle_cut_row(Gf, c, nuc, along, r0c, dr, u0c, inv_du, j_lo, j_hi, cp, h2, fb, s2):
+def _angle_cut_row(Gf, c, nuc, along, r0c, dr, u0c, inv_du, j_lo, j_hi, cps, h2, fb, s2):
     """A child cut along an image row in angle, at each of the child's range bins j_lo .. j_hi,
     into ``h2`` (:func:`_angle_cut_bins`).
 
@@ -374,7 +377,7 @@ def _angle_cut_row(Gf, c, nuc, along, r0c, dr, u0c, inv_du, j_lo, j_hi, cp, h2, 
     m = j_hi + 1 - j_lo
     for q in range(m):
         fb[q] = (along / (r0c + (j_lo + q) * dr) - u0c) * inv_du
-    _angle_cut_bins(Gf, c, nuc, fb, j_lo, m, cp, h2, s2)
+    _angle_cut_bins(Gf, c, nuc, fb, j_lo, m, cps, h2, s2)
 
 
 @njit(cache=True, fastmath=True, boundscheck=False, error_model="numpy")
@@ -421,16 +424,17 @@ def _row_range_pass(fr_b, n, h2, j_lo, j_hi, cr, crs, sn_b, cs_b, acc_re, acc_im
 
 
 @njit(parallel=True, nogil=True, cache=True, fastmath=True, error_model="numpy")
-def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, cres, dr_child, o, ea, er, az, rg, cyc_per_m, cp, cr, crs, out,
-                chunks):
+def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, cres, dr_child, o, ea, er, az, rg, cyc_per_m, cps, cr, crs,
+                out, chunks):
     """Every remaining sub-image interpolated onto the output grid row by row, separably (as a
     merge: a row along the range axis crosses each child's range bins in order when every child
     centre lies on the near side of the image, which the caller checks): per child, the cut along
     the row in angle at the child's range bins (:func:`_angle_cut_row`), then that cut in range at
     every pixel (:func:`_row_range_pass`), its phase k (|x - c| - rho_c) restored from small
     quantities (:func:`_image_cycles`; ``cres`` = |o - c| - rho_c, computed exactly by the
-    caller). ``cp``, ``cr``: the angle and range weights' polynomials; ``crs``: the range weights'
-    even and odd parts (:func:`_row_range_pass`)."""
+    caller). ``cps``: the angle weights' polynomials as their even and odd parts
+    (:func:`_angle_cut_bins`); ``cr``: the range weights' polynomials, ``crs`` their even and odd
+    parts (:func:`_row_range_pass`)."""
     nx, ny = out.shape
     n_bins = Gf.shape[2] // 2
     n_chunks = max(1, min(nx, chunks))
@@ -469,8 +473,8 @@ def _final_rows(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, cres, dr_child, o, ea, 
                 if j_hi < j_lo:
                     continue
                 along = a0 * ea[0] + a1 * ea[1] + a2 * ea[2] + az[i]  # (x - c).e_a on the whole row
-                _angle_cut_row(Gf, c, cnu[c], along, cr0[c], dr_child, cu0[c], 1.0 / cdu[c], j_lo, j_hi, cp, h2, fb,
-                               s2)
+                _angle_cut_row(Gf, c, cnu[c], along, cr0[c], dr_child, cu0[c], 1.0 / cdu[c], j_lo, j_hi, cps, h2,
+                               fb, s2)
                 _row_range_pass(fr_b, ny, h2, j_lo, j_hi, cr, crs, sn_b, cs_b, acc_re, acc_im, idx, sv)
             for k in range(ny):
                 out[i, k] = complex(acc_re[k], acc_im[k])
