@@ -158,8 +158,9 @@ def _rotate(vr, vi, cyc):
 def _line_start(o, ea, er, cen, r0, dr, n, u):
     """Where the polar line of direction cosine ``u`` from ``cen`` (ranges r0 + k dr, k < n) enters
     the plane: its first index lo (n: never), h^2 (the squared distance from ``cen`` to the plane's
-    line along ea through the foot of ``cen``), w = 1 - u^2 and the foot's point oa (the line's
-    point at range r is oa + r u ea + sqrt(r^2 w - h^2) er)."""
+    line along ea through the foot of ``cen``), w = 1 - u^2, the foot's point oa (the line's
+    point at range r is oa + r u ea + sqrt(r^2 w - h^2) er) and the foot less ``cen``, f, formed
+    from o - cen (:func:`_polar_line_terms`)."""
     d0 = o[0] - cen[0]
     d1 = o[1] - cen[1]
     d2 = o[2] - cen[2]
@@ -170,14 +171,17 @@ def _line_start(o, ea, er, cen, r0, dr, n, u):
     oa0 = o[0] - da * ea[0] - dg * er[0]
     oa1 = o[1] - da * ea[1] - dg * er[1]
     oa2 = o[2] - da * ea[2] - dg * er[2]
+    f0 = d0 - da * ea[0] - dg * er[0]
+    f1 = d1 - da * ea[1] - dg * er[1]
+    f2 = d2 - da * ea[2] - dg * er[2]
     if w <= 0.0:
-        return n, h2, w, oa0, oa1, oa2
+        return n, h2, w, oa0, oa1, oa2, f0, f1, f2
     lo = 0
     if h2 > 0.0:
         lo = max(0, int(math.ceil((math.sqrt(h2 / w) - r0) / dr)))
         while lo < n and (r0 + lo * dr) ** 2 * w < h2:
             lo += 1
-    return min(lo, n), h2, w, oa0, oa1, oa2
+    return min(lo, n), h2, w, oa0, oa1, oa2, f0, f1, f2
 
 
 @njit(cache=True, fastmath=True, inline="always", error_model="numpy")
@@ -191,7 +195,7 @@ def _polar_line(o, ea, er, cen, r0, dr, n, u, X0, X1, X2, rl):
     plane's line along ea through the foot of ``cen``: from a range found in closed form on, so
     the loop over the line has no branch and vectorises.
     """
-    lo, h2, w, oa0, oa1, oa2 = _line_start(o, ea, er, cen, r0, dr, n, u)
+    lo, h2, w, oa0, oa1, oa2, _, _, _ = _line_start(o, ea, er, cen, r0, dr, n, u)
     if lo >= n:
         return n, -1
     x0 = X0[lo:]
@@ -217,15 +221,7 @@ def _polar_line_terms(o, ea, er, cen, r0, dr, n, u, rl, tl):
     Writes each point's range r into ``rl`` and t(r) into ``tl`` from index 0 (the line's point lo
     at 0: two numbers a point, where the points and their offsets took seven), and returns lo, top
     (as :func:`_polar_line`) and f."""
-    lo, h2, w, _, _, _ = _line_start(o, ea, er, cen, r0, dr, n, u)
-    d0 = o[0] - cen[0]  # f = d less its parts along e_a and e_r, d = o - cen
-    d1 = o[1] - cen[1]
-    d2 = o[2] - cen[2]
-    da = d0 * ea[0] + d1 * ea[1] + d2 * ea[2]
-    dg = d0 * er[0] + d1 * er[1] + d2 * er[2]
-    f0 = d0 - da * ea[0] - dg * er[0]
-    f1 = d1 - da * ea[1] - dg * er[1]
-    f2 = d2 - da * ea[2] - dg * er[2]
+    lo, h2, w, _, _, _, f0, f1, f2 = _line_start(o, ea, er, cen, r0, dr, n, u)
     if lo >= n:
         return n, -1, f0, f1, f2
     for q in range(n - lo):
@@ -297,15 +293,14 @@ def _chunks() -> int:
 
 
 @njit(cache=True)
-def _line_scratch(n, n_child_bins):
-    """Buffers for the lines of one chunk, each at least ``n`` points long: the points X0, X1, X2
-    and their ranges; E0, E1, E2; the bin fractions and angle indices (float64); sin and cos
-    (float32); the interleaved accumulator and range-pass buffer (2 n float32); a child's cut
-    (``n_child_bins`` float32); the points' E.e_a (float64)."""
+def _line_scratch(n):
+    """Buffers for the leaves' lines of one chunk, each at least ``n`` points long: the points X0,
+    X1, X2 and their ranges; E0, E1, E2; the bin fractions and a float64 scratch; sin and cos
+    (float32); the interleaved accumulator and range-pass buffer (2 n float32). (A merge's are
+    :func:`salkit.focus.ffbp_merges._merge_scratch`.)"""
     return (np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n),
             np.empty(n), np.empty(n), np.empty(n, np.float32), np.empty(n, np.float32),
-            np.empty(2 * n, np.float32), np.empty(2 * n, np.float32), np.empty(n_child_bins, np.float32),
-            np.empty(n))
+            np.empty(2 * n, np.float32), np.empty(2 * n, np.float32))
 
 
 @njit(parallel=True, nogil=True, cache=True, fastmath=True, error_model="numpy")
@@ -319,7 +314,7 @@ def _leaf_kernel(prof, rp0, inv_drp, pos, ref, qrel, weight, first, count, cen, 
     for ch in prange(n_chunks):
         # one set of line buffers a chunk of lines, not a line (an allocation per line is a page
         # fault per line where the allocator trims eagerly, as in a Dask worker's thread)
-        X0, X1, X2, rl, E0, E1, E2, fr_b, v_b, sn_b, cs_b, acc2, t2, _h2, _z = _line_scratch(NR, 0)
+        X0, X1, X2, rl, E0, E1, E2, fr_b, v_b, sn_b, cs_b, acc2, t2 = _line_scratch(NR)
         for job in range(ch * n_jobs // n_chunks, (ch + 1) * n_jobs // n_chunks):
             s = job // NU
             iu = job % NU
@@ -660,7 +655,7 @@ def _leaf_spectra(are, aim, M, ref, qrel, weight, first, count, cen, o, ea, er, 
         for jj in range(ch * L // n_chunks, (ch + 1) * L // n_chunks):
             s, iu, u, n = _line_job(jj, j0, NU, u0, du, nr, lims)
             row = spec[jj]
-            lo, h2, w, oa0, oa1, oa2 = _line_start(o, ea, er, cen[s], r0[s], dr, n, u)
+            lo, h2, w, oa0, oa1, oa2, _, _, _ = _line_start(o, ea, er, cen[s], r0[s], dr, n, u)
             if iu >= nu[s] or lo >= n:  # no line: its row is transformed all the same
                 row[:] = np.float32(0.0)
                 continue

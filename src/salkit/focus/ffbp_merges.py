@@ -9,7 +9,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .ffbp_leaves import (RAMP2, SEG_FRACTION, SEG_MAX, _angle_at, _line_scratch, _polar_line_terms, _range_pass,
+from .ffbp_leaves import (RAMP2, SEG_FRACTION, SEG_MAX, _angle_at, _polar_line_terms, _range_pass,
                           _reduced, _rotate, _segment_end, _sincos_pass, _sincos_reduced, _tap_range)
 from .simd import WIDTH, taps8_sym7, wide_vectors
 
@@ -180,7 +180,7 @@ def _line_from_children(Gf, c0, c1, cu0, cdu, cnu, cr0, cnr, ccen, crho, lcen, l
     (2 d.f + |d|^2) + (2 u d.e_a) r + (2 d.e_r) t, and (X - c_child).a = (f + d).a + (u e_a.a) r +
     (e_r.a) t, a the children's angle axis ``ea``, or with ``own`` each child's own ``cax[c]``
     (leaves on their own axes, :mod:`salkit.focus.ffbp_axes`). The rest are the caller's scratch
-    (:func:`_line_scratch`), sliced here to the line: no allocation per line."""
+    (:func:`_merge_scratch`), sliced here to the line: no allocation per line."""
     m = r_line.shape[0]
     fr_b = fr_b[:m]
     v_b = v_b[:m]
@@ -202,6 +202,16 @@ def _line_from_children(Gf, c0, c1, cu0, cdu, cnu, cr0, cnr, ccen, crho, lcen, l
                           ab, ac, crho[c] - lrho, cyc_per_m, tu, tr, acc2, fr_b, v_b, sn_b, cs_b, h2, t2)
 
 
+@njit(cache=True)
+def _merge_scratch(n, n_child_bins):
+    """Buffers for the lines of one chunk of a merge, each at least ``n`` points long: the points'
+    r and t (:func:`~salkit.focus.ffbp_leaves._polar_line_terms`), bin fractions and angle indices
+    (float64); sin and cos (float32); the range pass's buffer (2 n float32); a child's cut
+    (``n_child_bins`` float32)."""
+    return (np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n, np.float32), np.empty(n, np.float32),
+            np.empty(2 * n, np.float32), np.empty(n_child_bins, np.float32))
+
+
 @njit(parallel=True, nogil=True, cache=True, fastmath=True, error_model="numpy")
 def _merge_kernel(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, dr_child, factor, o, ea, er, cen, rho, u0, du, nu, r0, dr,
                   nr, cyc_per_m, tu, tr, outf, chunks, cax, own):
@@ -215,7 +225,7 @@ def _merge_kernel(Gf, cu0, cdu, cnu, cr0, cnr, ccen, crho, dr_child, factor, o, 
     n_jobs = S * NU
     n_chunks = max(1, min(n_jobs, chunks))
     for ch in prange(n_chunks):
-        _, _, _, rl, tl, _, _, fr_b, v_b, sn_b, cs_b, _, t2, h2, _ = _line_scratch(NR, Gf.shape[2])
+        rl, tl, fr_b, v_b, sn_b, cs_b, t2, h2 = _merge_scratch(NR, Gf.shape[2])
         for job in range(ch * n_jobs // n_chunks, (ch + 1) * n_jobs // n_chunks):
             s = job // NU
             iu = job % NU
