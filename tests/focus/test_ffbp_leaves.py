@@ -266,3 +266,59 @@ def test_polar_line_terms_are_the_lines_points_less_the_centre(plane):
         assert np.allclose((E @ ea) / np.linalg.norm(E, axis=1), u, rtol=0, atol=1e-12)  # the line's u
         far = _polar_line_terms(o + 6.4e6 * ea, ea, er, c, r0, dr, n, u, rl2, X0)
         assert far[:2] == (lo, top) and np.abs(np.array(far[2:]) - [f0, f1, f2]).max() < 1e-8
+
+
+@pytest.mark.parametrize("dtype", [np.complex64, np.complex128])
+def test_windowed_spectra_are_the_windowed_parts_padded_with_zeros(dtype):
+    """The FFT leaves' inputs: each pulse's real and imaginary parts times the range window, as
+    float32, then zeros to the padded length, whatever the buffers held before (they come from
+    np.empty), for complex64 and complex128 phase histories."""
+    from salkit.focus.ffbp_leaves import _windowed_spectra
+    rng = np.random.default_rng(7)
+    P, M, padded = 5, 37, 64
+    ph = (rng.normal(size=(P, M)) + 1j * rng.normal(size=(P, M))).astype(dtype)
+    wr = np.hanning(M + 2)[1:-1].astype(np.float32)
+    are = np.full((P, padded), np.nan, np.float32)
+    aim = np.full((P, padded), np.nan, np.float32)
+    _windowed_spectra(ph, wr, are, aim)
+    assert np.array_equal(are[:, :M], (ph.real * wr).astype(np.float32))
+    assert np.array_equal(aim[:, :M], (ph.imag * wr).astype(np.float32))
+    assert not are[:, M:].any() and not aim[:, M:].any()
+
+
+def test_fft_leaves_reusing_a_dirty_scratch_give_the_same_lines():
+    """The FFT leaves with a scratch kept across calls (as the parents' leaves share one) and filled
+    with NaN before each: bit for bit the lines a fresh scratch gives, on the plane's axes (the seed
+    geometry) and on the leaves' own (the arc, with the correction's scratch): every float of the
+    scratch a call reads it has written."""
+    import salkit.focus.ffbp as F
+    from salkit.constants import SPEED_OF_LIGHT
+
+    from .test_ffbp_axes import _arc
+    for ph, ig in (_seed_case("5km", 64)[:2], _arc(128)):
+        pos, freq, ref = ph.positions, ph.freq, ph.reference_range
+        P, M = ph.data.shape
+        lay = F.ffbp_layout(pos, freq, ig)
+        assert lay.fft_leaves
+        spans, centres = lay.levels[0][0], lay.levels[0][1]
+        u0, du, nu, r0, nr = lay.grids[0]
+        pl = ig.plane
+        o, ea, er = (np.ascontiguousarray(v, np.float64) for v in (pl.origin, pl.azimuth, pl.range))
+        first, count, _, qrel = F.leaf_pulses(spans, centres, pos, ref, o)
+        are, aim = F._leaf_inputs(ph.data, np.ones(M))
+        args = (are, aim, M, lay.dr, ref, qrel, np.ones(P, np.float32))
+        cyc = 2.0 * freq[M // 2] / SPEED_OF_LIGHT
+        shape = (2, int(nu.max()), int(nr.max()))
+        work = F._fft_work(shape[0] * shape[1], lay.nfft, lay.frame is not None)
+        for a in (0, len(spans) // 2, len(spans) - 2):
+            s = slice(a, a + 2)
+            fr = None if lay.frame is None else lay.frame[s]
+            geo = (first[s], count[s], centres[s], o, ea, er, u0[s], du[s], nu[s], r0[s], nr[s], cyc, lay.nfft)
+            fresh = np.zeros(shape, np.complex64)
+            F._fft_leaves(*args, *geo, fresh, fr)
+            for buf in work:
+                if buf is not None and buf.dtype.kind in "fc":
+                    buf.fill(np.nan)
+            kept = np.zeros(shape, np.complex64)
+            F._fft_leaves(*args, *geo, kept, fr, work)
+            assert np.array_equal(kept, fresh) and np.abs(fresh).max() > 0

@@ -84,6 +84,7 @@ from typing import NamedTuple
 
 import numpy as np
 import scipy.fft as sfft
+from numba import njit
 
 from ..choices import ACCURACY, check_choice
 from ..constants import FFT_WORKERS, SPEED_OF_LIGHT
@@ -161,8 +162,8 @@ MIN_SIDE = 32
 
 
 from .ffbp_axes import frame_fits, leaf_frames, own_axis_residual, pulse_range_differences
-from .ffbp_leaves import (RAMP_BLOCK, _chunks, _leaf_kernel, _leaf_spectra, _leaf_spectra_own, interpolation_table,
-                          _leaf_store, _leaf_store_own, polynomial_weights)
+from .ffbp_leaves import (RAMP_BLOCK, _chunks, _leaf_kernel, _leaf_spectra, _leaf_spectra_own, _leaf_store,
+                          _leaf_store_own, _windowed_spectra, interpolation_table, polynomial_weights)
 from .ffbp_merges import ANGLE_TAPS, _final_kernel, _final_rows, _merge_kernel
 
 
@@ -387,9 +388,30 @@ def angle_lengths(spans: list, centres: np.ndarray, positions: np.ndarray, grid:
             tv = np.einsum("skj,sj->sk", v, axes[sl])
             tv = np.where(np.abs(tv) > 1e-9 * r, tv, 1e-9 * r)
             dxdu = (r / tv)[..., None] * v
-        v = x[None, None] - positions[pulses[sl]][:, :, None]  # (S, n, K, 3)
-        nv = v / np.sqrt(np.einsum("snkj,snkj->snk", v, v))[..., None] - (d / r[..., None])[:, None]
-        out[sl] = 2.0 * np.abs(np.einsum("snkj,skj->snk", nv, dxdu)).max(axis=(1, 2))
+        out[sl] = 2.0 * _band_rates(x, positions[pulses[sl]], d, r, np.ascontiguousarray(dxdu))
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def _band_rates(x, p, d, r, dxdu):
+    """:func:`angle_lengths`' largest |(n_p - n_c).dx/du| of each sub-aperture s over its sampled
+    pulses ``p[s]`` (float64 (S, n, 3)) and the points ``x`` (K, 3): n_p = (x - p) / |x - p|, n_c =
+    ``d`` / ``r`` (x - c and its length, (S, K, 3) and (S, K)). One pass, no temporaries (NumPy's
+    broadcast arrays took 10-15 ms of each FFBP at 4096^2)."""
+    S, n = p.shape[0], p.shape[1]
+    K = x.shape[0]
+    out = np.zeros(S)
+    for s in range(S):
+        m = 0.0
+        for i in range(n):
+            for k in range(K):
+                v0, v1, v2 = x[k, 0] - p[s, i, 0], x[k, 1] - p[s, i, 1], x[k, 2] - p[s, i, 2]
+                nv = math.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
+                rk = r[s, k]
+                a = ((v0 / nv - d[s, k, 0] / rk) * dxdu[s, k, 0] + (v1 / nv - d[s, k, 1] / rk) * dxdu[s, k, 1]
+                     + (v2 / nv - d[s, k, 2] / rk) * dxdu[s, k, 2])
+                m = max(m, abs(a))
+        out[s] = m
     return out
 
 
@@ -456,11 +478,27 @@ def range_widening(levels: list, positions: np.ndarray, grid: ImageGrid, freq: n
                 t = polar_tangent(x, line_centres[sl][:, None, :], ea, er)  # (S, K, 3)
             uc = x - centres[sl][:, None, :]
             drc = np.einsum("skj,skj->sk", uc, t) / np.sqrt(np.einsum("skj,skj->sk", uc, uc))
-            v = x[None, None] - p[:, :, None]  # (S, n, K, 3)
-            D = (np.einsum("snkj,skj->snk", v, t) / np.sqrt(np.einsum("snkj,snkj->snk", v, v))
-                 / np.maximum(drc, 1e-9)[:, None])
-            lo, hi = min(lo, float(D.min())), max(hi, float(D.max()))
+            d_lo, d_hi = _range_rates(x, p, np.ascontiguousarray(t), np.maximum(drc, 1e-9))
+            lo, hi = min(lo, d_lo), max(hi, d_hi)
     return max(1.0, max(abs(k * d - k_c) for k in (k_lo, k_hi) for d in (lo, hi)) / half)
+
+
+@njit(cache=True, error_model="numpy")
+def _range_rates(x, p, t, drc):
+    """:func:`range_widening`'s D = ((x - p).t / |x - p|) / ``drc`` at the points ``x`` (K, 3) for the
+    pulses ``p`` (float64 (S, n, 3)), ``t`` (S, K, 3) and ``drc`` (S, K) each child's: its least and
+    largest value. One pass, no temporaries."""
+    lo = np.inf
+    hi = -np.inf
+    for s in range(p.shape[0]):
+        for i in range(p.shape[1]):
+            for k in range(x.shape[0]):
+                v0, v1, v2 = x[k, 0] - p[s, i, 0], x[k, 1] - p[s, i, 1], x[k, 2] - p[s, i, 2]
+                D = (v0 * t[s, k, 0] + v1 * t[s, k, 1] + v2 * t[s, k, 2]) / math.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
+                D = D / drc[s, k]
+                lo = min(lo, D)
+                hi = max(hi, D)
+    return lo, hi
 
 
 class Layout(NamedTuple):
@@ -638,17 +676,25 @@ def _leaf_inputs(ph, range_window) -> tuple[np.ndarray, np.ndarray]:
     """The FFT leaves' inputs: the pulses' windowed spectra, real and imaginary parts apart
     (float32 (P, M') each, M frequencies padded with zeros to a multiple of :data:`RAMP_BLOCK`)."""
     P, M = ph.shape
-    wr = np.asarray(range_window, np.float32)
     padded = -(-M // RAMP_BLOCK) * RAMP_BLOCK
-    are = np.zeros((P, padded), np.float32)
-    aim = np.zeros((P, padded), np.float32)
-    np.multiply(ph.real, wr, out=are[:, :M], casting="same_kind")
-    np.multiply(ph.imag, wr, out=aim[:, :M], casting="same_kind")
+    are = np.empty((P, padded), np.float32)  # written whole by the kernel: its pages faulted in on both cores
+    aim = np.empty((P, padded), np.float32)
+    _windowed_spectra(ph, np.ascontiguousarray(range_window, np.float32), are, aim)
     return are, aim
 
 
+def _fft_work(rows: int, nfft: int, own: bool) -> tuple:
+    """:func:`_fft_leaves`'s scratch for up to ``rows`` polar lines (at most :data:`FFT_LEAF_BATCH` at
+    a time) of FFT length ``nfft``: the sums' rows (complex64), the lines' limits, and with ``own``
+    (leaves on their own axes) the correction's rows and the lines' coefficients (else None)."""
+    n = max(1, min(rows, FFT_LEAF_BATCH))
+    scratch = np.empty((n, nfft), np.complex64)
+    return (scratch, np.empty((n, 2), np.int64), np.empty_like(scratch) if own else None,
+            np.empty((n, 3)) if own else None)
+
+
 def _fft_leaves(are, aim, M, dr, ref_range, qrel, w, first, count, centres, o, ea, er, u0, du, nu, r0, nr,
-                cyc_per_m, nfft, G, frame=None) -> None:
+                cyc_per_m, nfft, G, frame=None, work=None) -> None:
     """The leaves by FFT into ``G`` (complex64 (S, NU, NR): a line a row, NR its longest length;
     the leaves those of ``first``, ``count``, ``centres`` and the grids, S of them): for each polar
     line the pulses' windowed spectra (:func:`_leaf_inputs`, M frequencies) summed with the phase
@@ -657,15 +703,13 @@ def _fft_leaves(are, aim, M, dr, ref_range, qrel, w, first, count, centres, o, e
     first NR points are kept (:func:`salkit.focus.ffbp_leaves._leaf_store`); exact where
     :func:`fft_leaves_fit` holds, with no range profiles and no interpolation. With the leaves'
     ``frame`` (:func:`own_leaves_fit`), on their own axes with the first-order correction: a second
-    scratch of its sums, transformed too (:func:`salkit.focus.ffbp_leaves._leaf_spectra_own`)."""
+    scratch of its sums, transformed too (:func:`salkit.focus.ffbp_leaves._leaf_spectra_own`).
+    ``work``: the scratch (:func:`_fft_work`) where the caller keeps it across calls (fresh pages
+    cost a fault each, taken inside the parallel kernels), else allocated here."""
     S, NU, NR = G.shape
     lines = G.reshape(S * NU, NR)
-    batch = FFT_LEAF_BATCH
-    scratch = np.empty((min(S * NU, batch), nfft), np.complex64)
-    lims = np.empty((scratch.shape[0], 2), np.int64)
-    if frame is not None:
-        scratch1 = np.empty_like(scratch)
-        bq = np.empty((scratch.shape[0], 3))
+    scratch, lims, scratch1, bq = _fft_work(S * NU, nfft, frame is not None) if work is None else work
+    batch = scratch.shape[0]
     for j0 in range(0, S * NU, batch):
         n = min(batch, S * NU - j0)
         blk = scratch[:n]
@@ -740,12 +784,15 @@ def _fused_leaves(scratch, out, factor, leaves, children, parent, dr, o, ea, er,
     u0, du, nu, r0, nr, centres, rho = children
     pcen, prho, pu0, pdu, pnu, pr0, pnr = parent
     n_child = first.shape[0]
+    # one scratch for every parent's transforms: 32 parents at 4096^2 took 19 MB of fresh pages each
+    # (0.1-0.14 s of page faults a call)
+    work = _fft_work(scratch.shape[0] * scratch.shape[1], nfft, frame is not None)
     for s in range(pcen.shape[0]):
         a, b = s * factor, min(s * factor + factor, n_child)
         G = scratch[:b - a]
         fr = None if frame is None else frame[a:b]
         _fft_leaves(are, aim, M, dr, ref_range, qrel, w, first[a:b], count[a:b], centres[a:b], o, ea, er, u0[a:b],
-                    du[a:b], nu[a:b], r0[a:b], nr[a:b], cyc_per_m, nfft, G, fr)
+                    du[a:b], nu[a:b], r0[a:b], nr[a:b], cyc_per_m, nfft, G, fr, work)
         p = slice(s, s + 1)
         cax, own = _child_axes(fr)
         _merge_kernel(G.view(np.float32), u0[a:b], du[a:b], nu[a:b], r0[a:b], nr[a:b], centres[a:b], rho[a:b], dr,

@@ -329,9 +329,30 @@ def pulse_range_differences(E: np.ndarray, q: np.ndarray) -> np.ndarray:
     >>> bool(np.isclose(pulse_range_differences(E, q)[0, 0, 0, 0], np.hypot(3.0, 3.0) - 5.0, rtol=1e-14))
     True
     """
-    num = 2.0 * np.einsum("slkj,swj->slkw", E, q) + np.einsum("swj,swj->sw", q, q)[:, None, None, :]
-    Rp = np.linalg.norm(E[:, :, :, None, :] + q[:, None, None, :, :], axis=-1)
-    return num / (Rp + np.linalg.norm(E, axis=-1)[..., None])
+    E = np.ascontiguousarray(E, np.float64)
+    q = np.ascontiguousarray(q, np.float64)
+    out = np.empty(E.shape[:3] + (q.shape[1],))
+    _range_differences(E, q, out)
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def _range_differences(E, q, out):
+    """:func:`pulse_range_differences` into ``out`` (one pass, no temporaries: the FFT leaves' check
+    on the 4096^2 arc took 17 ms in NumPy's broadcast arrays)."""
+    S, L, K, _ = E.shape
+    W = q.shape[1]
+    for s in range(S):
+        for w in range(W):
+            q0, q1, q2 = q[s, w, 0], q[s, w, 1], q[s, w, 2]
+            qq = q0 * q0 + q1 * q1 + q2 * q2
+            for i in range(L):
+                for k in range(K):
+                    e0, e1, e2 = E[s, i, k, 0], E[s, i, k, 1], E[s, i, k, 2]
+                    p0, p1, p2 = e0 + q0, e1 + q1, e2 + q2
+                    num = 2.0 * (e0 * q0 + e1 * q1 + e2 * q2) + qq
+                    out[s, i, k, w] = num / (math.sqrt(p0 * p0 + p1 * p1 + p2 * p2)
+                                             + math.sqrt(e0 * e0 + e1 * e1 + e2 * e2))
 
 
 def frame_fits(frame: np.ndarray, centres: np.ndarray, points: np.ndarray) -> bool:

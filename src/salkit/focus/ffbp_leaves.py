@@ -493,6 +493,24 @@ def _range_pass(fr_b, n, h2, j_lo, j_hi, span, tr, sn_b, cs_b, acc2, t2):
 RAMP_BLOCK = 256
 
 
+@njit(parallel=True, nogil=True, cache=True, error_model="numpy")
+def _windowed_spectra(ph, wr, are, aim):
+    """The FFT leaves' inputs (:func:`salkit.focus.ffbp._leaf_inputs`), a pulse a job on every core:
+    ``are[p, :M]``, ``aim[p, :M]`` the real and imaginary parts of ``ph[p]`` (complex, (P, M)) times
+    ``wr`` (float32 (M,)), as float32, and zero past M (the padding)."""
+    P, M = ph.shape
+    for p in prange(P):
+        ar = are[p]
+        ai = aim[p]
+        row = ph[p]
+        for m in range(M):
+            ar[m] = np.float32(row[m].real * wr[m])
+            ai[m] = np.float32(row[m].imag * wr[m])
+        for m in range(M, ar.shape[0]):
+            ar[m] = np.float32(0.0)
+            ai[m] = np.float32(0.0)
+
+
 @njit(cache=True, fastmath=True, error_model="numpy")
 def _ramp_tables(start, step, cyc0, wp, n_hi, t_hi_re, t_hi_im, t_lo_re, t_lo_im):
     """The phasors exp(j 2 pi (cyc0 + (start + m) step)) of m = RAMP_BLOCK h + l as the products of
