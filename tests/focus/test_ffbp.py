@@ -364,7 +364,7 @@ def test_planning_kernels_are_numpys_broadcast_forms(plane):
     v = x[None, None] - p[:, :, None]
     nv = v / np.sqrt(np.einsum("snkj,snkj->snk", v, v))[..., None] - (d / r[..., None])[:, None]
     want = np.abs(np.einsum("snkj,skj->snk", nv, dxdu)).max(axis=(1, 2))
-    assert np.allclose(_band_rates(x, p, d, r, np.ascontiguousarray(dxdu)), want, rtol=1e-12, atol=0)
+    assert np.allclose(_band_rates(x, p, d / r[..., None], np.ascontiguousarray(dxdu)), want, rtol=1e-12, atol=0)
     t = polar_tangent(x, centres[:, None, :], ea, er)
     drc = np.maximum(np.einsum("skj,skj->sk", d, t) / r, 1e-9)
     D = np.einsum("snkj,skj->snk", v, t) / np.sqrt(np.einsum("snkj,snkj->snk", v, v)) / drc[:, None]

@@ -388,16 +388,16 @@ def angle_lengths(spans: list, centres: np.ndarray, positions: np.ndarray, grid:
             tv = np.einsum("skj,sj->sk", v, axes[sl])
             tv = np.where(np.abs(tv) > 1e-9 * r, tv, 1e-9 * r)
             dxdu = (r / tv)[..., None] * v
-        out[sl] = 2.0 * _band_rates(x, positions[pulses[sl]], d, r, np.ascontiguousarray(dxdu))
+        out[sl] = 2.0 * _band_rates(x, positions[pulses[sl]], d / r[..., None], np.ascontiguousarray(dxdu))
     return out
 
 
 @njit(cache=True, error_model="numpy")
-def _band_rates(x, p, d, r, dxdu):
+def _band_rates(x, p, nc, dxdu):
     """:func:`angle_lengths`' largest |(n_p - n_c).dx/du| of each sub-aperture s over its sampled
-    pulses ``p[s]`` (float64 (S, n, 3)) and the points ``x`` (K, 3): n_p = (x - p) / |x - p|, n_c =
-    ``d`` / ``r`` (x - c and its length, (S, K, 3) and (S, K)). One pass, no temporaries (NumPy's
-    broadcast arrays took 10-15 ms of each FFBP at 4096^2)."""
+    pulses ``p[s]`` (float64 (S, n, 3)) and the points ``x`` (K, 3): n_p = (x - p) / |x - p|, and
+    ``nc`` the unit vectors from the centre (S, K, 3). One pass, no temporaries (NumPy's broadcast
+    arrays took 10-15 ms of each FFBP at 4096^2)."""
     S, n = p.shape[0], p.shape[1]
     K = x.shape[0]
     out = np.zeros(S)
@@ -407,9 +407,8 @@ def _band_rates(x, p, d, r, dxdu):
             for k in range(K):
                 v0, v1, v2 = x[k, 0] - p[s, i, 0], x[k, 1] - p[s, i, 1], x[k, 2] - p[s, i, 2]
                 nv = math.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
-                rk = r[s, k]
-                a = ((v0 / nv - d[s, k, 0] / rk) * dxdu[s, k, 0] + (v1 / nv - d[s, k, 1] / rk) * dxdu[s, k, 1]
-                     + (v2 / nv - d[s, k, 2] / rk) * dxdu[s, k, 2])
+                a = ((v0 / nv - nc[s, k, 0]) * dxdu[s, k, 0] + (v1 / nv - nc[s, k, 1]) * dxdu[s, k, 1]
+                     + (v2 / nv - nc[s, k, 2]) * dxdu[s, k, 2])
                 m = max(m, abs(a))
         out[s] = m
     return out
