@@ -15,6 +15,11 @@ same one (on the project's VM a setting timed right after FFBP's runs, which tak
 700 MB, ran up to 25 % slower than the same work elsewhere); threads: numba's (salkit) and
 OMP_NUM_THREADS (FastSAR), both set to the cores.
 
+After the rows, issue 33 point 2's criteria judged on them (:func:`point2_verdicts`): for each of
+FastSAR's exact-BP settings salkit's fastest direct-BP setting at least as accurate and the ratio
+(>= 1.3x asked), the default ``bp`` against -65 dB at 1.2e9 pixel-pulses/s, and the fastest setting
+at <= -85 dB against 1.0e9: "met" or "MISSED" with the numbers.
+
 FastSAR is optional (``pip install 'salkit[peers]'``, never needed by ``make test``): without it
 this benchmark prints one line saying so and measures nothing.
 
@@ -34,9 +39,11 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 #: (label, former, keyword arguments) of salkit
 #: (bp: the default, 6x profiles and four fitted taps, 8x at accuracy high; "bp linear 16x" the
-#: default until 0.19.0, through the library's linear interpolation)
+#: default until 0.19.0, through the library's linear interpolation; "bp linear 4x" and "8x" the same
+#: path at FastSAR's coarsest linear settings' upsampling)
 SALKIT = ([("ffbp", "ffbp", {}), ("ffbp high", "ffbp", {"accuracy": "high"}), ("bp", "bp", {}),
-           ("bp high (8x)", "bp", {"upsample": 8}), ("bp linear 16x", "linear", {"upsample": 16}),
+           ("bp high (8x)", "bp", {"upsample": 8}), ("bp linear 4x", "linear", {"upsample": 4}),
+           ("bp linear 8x", "linear", {"upsample": 8}), ("bp linear 16x", "linear", {"upsample": 16}),
            ("bp linear 32x", "linear", {"upsample": 32}), ("bp_cubic", "bp_cubic", {}),
            ("bp_cubic high (32x)", "bp_cubic", {"upsample": 32}), ("bp_fitted 4x", "bp_fitted", {"upsample": 4}),
            ("bp_fitted", "bp_fitted", {})])
@@ -44,6 +51,54 @@ SALKIT = ([("ffbp", "ffbp", {}), ("ffbp high", "ffbp", {"accuracy": "high"}), ("
 FASTSAR = ([(f"ffbp target {t} dB", {"algorithm": "ffbp", "target_db": float(t)}) for t in (-40, -50, -60)]
            + [(f"bp {i} {u}x", {"algorithm": "bp", "interp": i, "upsample": u})
               for i in ("linear", "cubic") for u in (4, 8, 16, 32)])
+
+
+#: Issue 33, point 2: every FastSAR exact-BP setting has a salkit direct-BP setting at least as
+#: accurate and this many times as fast ...
+DOMINANCE = 1.3
+#: ... and salkit's default ``bp`` is at least this accurate (dB) at this rate (pixel-pulses/s) ...
+DEFAULT_ERROR_DB, DEFAULT_RATE = -65.0, 1.2e9
+#: ... and some salkit direct-BP setting at least this accurate at this rate.
+FINE_ERROR_DB, FINE_RATE = -85.0, 1.0e9
+
+
+def point2_verdicts(rows: dict) -> list:
+    """Issue 33 point 2's criteria on one grid's measurements.
+
+    Parameters
+    ----------
+    rows : dict
+        ``(library, label) -> (error dB, pixel-pulses/s)`` for every setting measured; the direct
+        backprojection settings are the labels beginning "bp" (salkit's formers ``bp``,
+        ``bp_cubic``, ``bp_fitted`` and the library's linear interpolation; FastSAR's exact BP).
+
+    Returns
+    -------
+    list of (str, bool)
+        Each criterion in words, with the numbers it was judged on, and whether it is met.
+    """
+    ours = {k[1]: v for k, v in rows.items() if k[0] == "salkit" and k[1].startswith("bp")}
+    out = []
+    for (lib, label), (err, rate) in rows.items():
+        if lib != "FastSAR" or not label.startswith("bp"):
+            continue
+        fit = [(r, lab, e) for lab, (e, r) in ours.items() if e <= err]
+        if not fit:
+            out.append((f"FastSAR {label} ({err:.1f} dB, {rate:.3g}/s): no salkit setting as accurate", False))
+            continue
+        r, lab, e = max(fit)
+        out.append((f"FastSAR {label} ({err:.1f} dB, {rate:.3g}/s): salkit {lab} ({e:.1f} dB, {r:.3g}/s) "
+                    f"{r / rate:.2f}x (>= {DOMINANCE}x)", r >= DOMINANCE * rate))
+    if "bp" in ours:
+        e, r = ours["bp"]
+        out.append((f"default bp {e:.1f} dB at {r:.3g}/s (<= {DEFAULT_ERROR_DB:.0f} dB at >= {DEFAULT_RATE:.2g})",
+                    e <= DEFAULT_ERROR_DB and r >= DEFAULT_RATE))
+    fine = [(r, lab, e) for lab, (e, r) in ours.items() if e <= FINE_ERROR_DB]
+    if fine:
+        r, lab, e = max(fine)
+        out.append((f"fastest salkit setting at <= {FINE_ERROR_DB:.0f} dB: {lab} {e:.1f} dB at {r:.3g}/s "
+                    f"(>= {FINE_RATE:.2g})", r >= FINE_RATE))
+    return out
 
 
 def _fastsar():
@@ -111,6 +166,13 @@ def bench_peers(sizes=(1024,), repeat=3, only: str | None = None):
             print(f"{n}^2 x {P} pulses x {K} | {lib:7s} | {label:22s} | {m['error_db']:7.1f} dB | "
                   f"{m['phase_p99_deg']:6.3f} deg | {best[(lib, label)]:7.3f} s | "
                   f"{n * n * P / best[(lib, label)]:.3g} px-pulses/s", flush=True)
+        if not only:  # issue 33 point 2, judged on this run's rows
+            rows = {k: (out[f"peers_{n}_{k[0]}_{k[1]}_error_db".replace(" ", "_")], n * n * P / best[k])
+                    for k in result}
+            verdicts = point2_verdicts(rows)
+            for text, ok in verdicts:
+                print(f"{n}^2 point 2 | {'met   ' if ok else 'MISSED'} | {text}", flush=True)
+            out[f"peers_{n}_point2_met"] = all(ok for _, ok in verdicts)
         if not only:  # the simulator's own rows: as many scatterers x pulses x samples, SAL raw data
             from fast_simulation import bench_fast_simulation
             sim = bench_fast_simulation(n_scat=int(t["scatterers"]), n_pulses=P, n_samples=K)
