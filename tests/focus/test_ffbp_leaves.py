@@ -322,3 +322,17 @@ def test_fft_leaves_reusing_a_dirty_scratch_give_the_same_lines():
             kept = np.zeros(shape, np.complex64)
             F._fft_leaves(*args, *geo, kept, fr, work)
             assert np.array_equal(kept, fresh) and np.abs(fresh).max() > 0
+
+
+def test_kernel_designs_are_computed_once_and_handed_out_as_copies():
+    """FFBP asks for the same kernels at every call: each is designed once (cached) and every
+    caller gets its own writable copy, so that one caller's writes reach no other."""
+    from salkit.focus import ffbp_leaves
+    for get, cached in ((polynomial_weights, ffbp_leaves._polynomials), (interpolation_table, ffbp_leaves._table)):
+        first = get(8, 1.8125)
+        hits = cached.cache_info().hits
+        first[:] = 0.0
+        again = get(8, 1.8125)
+        assert cached.cache_info().hits == hits + 1
+        assert again.flags.writeable and not np.shares_memory(first, again)
+        assert np.abs(again).max() > 0.5  # the design, not the zeros written into the first copy

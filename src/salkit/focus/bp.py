@@ -50,7 +50,7 @@ def spotlight_backprojection(pulses, grid: ImageGrid, window: Window, ranges, *,
     window : Window
         Over all the pulses and over the range samples.
     ranges : list of (int, int)
-        The pulse blocks, in order (a multiple of the kernel's 32 pulses long, but the last).
+        The pulse blocks, in order (any lengths: each pixel sums its pulses in order).
     upsample : int
         Range-profile upsampling.
     interpolation : {"linear", "nearest", "cubic", "fitted"}
@@ -163,11 +163,11 @@ def backprojection_former(interpolation: str, default_upsample: int = BP_UPSAMPL
 
 
 def bp_memory(sizes: Sizes) -> float:
-    """Bytes backprojection adds: one kernel call's upsampled range profiles (bounded by the call's
-    pulses, :func:`salkit.focus.bp_kernel.profile_block`) at the sizes' upsampling, 16 bytes a bin:
-    the complex64 buffer every block of the call is transformed into in place, in the layout the
-    kernel reads (:func:`salkit.focus.profiles.range_profiles_into`), counted twice (until 0.29.2
-    the four-tap kernels read a padded copy; the second half is now margin).
+    """Bytes backprojection adds: one kernel call's upsampled range profiles (its pulses
+    :func:`salkit.focus.bp_kernel.profile_block`, or the block's if fewer) at the sizes' upsampling,
+    16 bytes a bin: the complex64 buffer every block of the call is transformed into in place, in
+    the layout the kernel reads (:func:`salkit.focus.profiles.range_profiles_into`), counted twice
+    (until 0.29.2 the four-tap kernels read a padded copy; the second half is now margin).
 
     Parameters
     ----------
@@ -178,7 +178,8 @@ def bp_memory(sizes: Sizes) -> float:
     float
     """
     up = max(int(sizes.upsample), 1)
-    return profile_block(sizes.samples, up) * 16.0 * profile_length(sizes.samples, up)
+    pulses = min(profile_block(sizes.samples, up), max(int(sizes.pulses), 1))  # a block of fewer takes fewer
+    return pulses * 16.0 * profile_length(sizes.samples, up)
 
 
 _form_default, _blocks_default = backprojection_former("fitted", BP_DEFAULT_UPSAMPLE)

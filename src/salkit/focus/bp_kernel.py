@@ -575,8 +575,14 @@ def kernel_coefficients(interpolation: str, n_samples: int, n_bins: int) -> np.n
 #: fewer pulses a call.
 PROFILE_BYTES = 128 * 2 ** 20
 
+#: Pulses a kernel call of :func:`backproject` at most (:func:`profile_block`): 128 since 0.30.4 (32
+#: before). Each call sets up its tiles' lines and its threads once; at 256^2 (469 pulses) the former
+#: took 0.029 s against 0.032 s with 32, at 1024^2 about 1 % less; the image is the same bits (every
+#: pixel sums its pulses in order, whatever the calls).
+PULSE_BLOCK = 128
 
-def profile_block(n_samples: int, upsample: int, block: int = 32) -> int:
+
+def profile_block(n_samples: int, upsample: int, block: int = PULSE_BLOCK) -> int:
     """Pulses a kernel call of :func:`backproject`: ``block``, halved (a power of two dividing it)
     until the call's range profiles fit :data:`PROFILE_BYTES`.
 
@@ -593,8 +599,8 @@ def profile_block(n_samples: int, upsample: int, block: int = 32) -> int:
 
     Examples
     --------
-    >>> profile_block(2000, 16), profile_block(655360, 16)
-    (32, 1)
+    >>> profile_block(2000, 16), profile_block(8000, 16), profile_block(655360, 16)
+    (128, 64, 1)
     """
     per_pulse = 2 * 8.0 * profile_length(n_samples, upsample)
     while block > 1 and block * per_pulse > PROFILE_BYTES:
@@ -604,7 +610,7 @@ def profile_block(n_samples: int, upsample: int, block: int = 32) -> int:
 
 def backproject(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_range: np.ndarray,
                 row_origin: np.ndarray, rdir: np.ndarray, rg: np.ndarray, weight: np.ndarray,
-                range_window: np.ndarray, upsample: int = BP_UPSAMPLE, block: int = 32,
+                range_window: np.ndarray, upsample: int = BP_UPSAMPLE, block: int = PULSE_BLOCK,
                 progress=None, linear_compensation: bool = True, out=None,
                 interpolation: str = "linear", segments: bool = True) -> np.ndarray:
     """Backproject a phase history onto a plane grid.
@@ -640,8 +646,8 @@ def backproject(ph: np.ndarray, freq: np.ndarray, positions: np.ndarray, ref_ran
         Pre-compensate the interpolation's mean attenuation (:attr:`Interpolation.gain`).
     out : (float32 (nx, ny), float32 (nx, ny)), optional
         Accumulators (real, imaginary) to add into: pulse blocks backprojected one after another
-        into the same accumulators give the whole collection's image, kernel call for kernel call
-        (blocks a multiple of ``block`` pulses long).
+        into the same accumulators give the whole collection's image, the same bits (each pixel sums
+        its pulses in order).
     interpolation : {"linear", "nearest", "cubic", "fitted"}
         How the profiles are read between bins (:data:`salkit.focus.profiles.INTERPOLATIONS`).
     segments : bool

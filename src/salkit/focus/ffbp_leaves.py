@@ -5,11 +5,13 @@ the merges are in :mod:`salkit.focus.ffbp_merges`.
 """
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
 from numba import get_num_threads, njit, prange
 
+from .._blas import serial_blas
 from ..signals.phase import sincos_cycles as _sincos_cycles
 from .ffbp_axes import _own_line_start, _own_point, _own_weights
 
@@ -81,8 +83,19 @@ def interpolation_table(taps: int, oversample: float, steps: int = TABLE_STEPS) 
     >>> w.shape, bool(abs(w[0, 2] - 1.0) < 1e-6), bool(abs(w[-1, 3] - 1.0) < 1e-6)
     ((2049, 6), True, True)
     """
+    return _table(int(taps), float(oversample), int(steps)).copy()
+
+
+@functools.lru_cache(maxsize=64)
+def _table(taps: int, oversample: float, steps: int) -> np.ndarray:
+    """:func:`interpolation_table`, computed once for each set of arguments (read-only; the callers
+    get copies): FFBP asks for the same few kernels at every call on a geometry."""
     t = np.arange(steps + 1) / steps
-    return np.ascontiguousarray(least_squares_weights(taps, oversample, t), dtype=np.float32)
+    with serial_blas():  # no BLAS threads left spinning beside the kernels that follow (:mod:`salkit._blas`)
+        w = least_squares_weights(taps, oversample, t)
+    table = np.ascontiguousarray(w, dtype=np.float32)
+    table.setflags(write=False)
+    return table
 
 
 def polynomial_weights(taps: int, oversample: float, degree: int = POLY_DEGREE) -> np.ndarray:
@@ -114,11 +127,21 @@ def polynomial_weights(taps: int, oversample: float, degree: int = POLY_DEGREE) 
     >>> bool(np.abs(w - least_squares_weights(8, 1.75, t)).max() < 2e-5)
     True
     """
+    return _polynomials(int(taps), float(oversample), int(degree)).copy()
+
+
+@functools.lru_cache(maxsize=64)
+def _polynomials(taps: int, oversample: float, degree: int) -> np.ndarray:
+    """:func:`polynomial_weights`, computed once for each set of arguments (read-only; the callers
+    get copies)."""
     t = np.linspace(0.0, 1.0, 4097)
-    w = least_squares_weights(taps, oversample, t)
-    cheb = np.polynomial.chebyshev.chebfit(2.0 * t - 1.0, w, degree)  # (degree + 1, taps)
+    with serial_blas():  # the fit on one BLAS thread: none left spinning beside FFBP's kernels
+        w = least_squares_weights(taps, oversample, t)
+        cheb = np.polynomial.chebyshev.chebfit(2.0 * t - 1.0, w, degree)  # (degree + 1, taps)
     power = np.stack([np.polynomial.chebyshev.cheb2poly(cheb[:, b]) for b in range(taps)])
-    return np.ascontiguousarray(power, dtype=np.float32)
+    power = np.ascontiguousarray(power, dtype=np.float32)
+    power.setflags(write=False)
+    return power
 
 
 @njit(cache=True, inline="always", fastmath=True, error_model="numpy")

@@ -15,6 +15,7 @@ import numpy as np
 import scipy.fft as sfft
 from numba import njit, prange
 
+from .._blas import serial_blas
 from ..constants import FFT_WORKERS, SPEED_OF_LIGHT
 from ..errors import ScenarioError
 
@@ -309,7 +310,8 @@ def fitted_coefficients(M: int, nfft: int) -> np.ndarray:
     cols = (ph[:, :, None, :] * powers[None, :, :, None]).transpose(1, 3, 0, 2).reshape(t.size * nu.size, 16)
     a = np.vstack([cols.real, cols.imag])
     b = np.concatenate([np.ones(t.size * nu.size), np.zeros(t.size * nu.size)])
-    c = np.linalg.lstsq(a, b, rcond=None)[0].reshape(4, 4)
+    with serial_blas():  # none of BLAS's threads left spinning beside the kernel (:mod:`salkit._blas`)
+        c = np.linalg.lstsq(a, b, rcond=None)[0].reshape(4, 4)
     c.setflags(write=False)
     return c
 

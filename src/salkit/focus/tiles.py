@@ -37,9 +37,11 @@ _dask_distributed = _deferred("dask.distributed")  # not lazy_loader: it imports
 
 #: Smallest tile side, pixels.
 MIN_TILE = 32
-#: Smallest pulse block (a multiple of backprojection's kernel block of 32 pulses).
+#: Smallest pulse block (a multiple of :data:`KERNEL_BLOCK`).
 MIN_BLOCK = 64
-#: Pulses per kernel call of :func:`salkit.focus.bp_kernel.backproject` (blocks are multiples).
+#: Pulse blocks are multiples of this many pulses (the image is the same bits whatever the blocks:
+#: each pixel sums its pulses in order; backprojection's kernel takes up to
+#: :data:`salkit.focus.bp_kernel.PULSE_BLOCK` a call).
 KERNEL_BLOCK = 32
 
 
