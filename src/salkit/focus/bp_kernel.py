@@ -576,15 +576,26 @@ def kernel_coefficients(interpolation: str, n_samples: int, n_bins: int) -> np.n
 PROFILE_BYTES = 128 * 2 ** 20
 
 #: Pulses a kernel call of :func:`backproject` at most (:func:`profile_block`): 128 since 0.30.4 (32
-#: before). Each call sets up its tiles' lines and its threads once; at 256^2 (469 pulses) the former
-#: took 0.029 s against 0.032 s with 32, at 1024^2 about 1 % less; the image is the same bits (every
-#: pixel sums its pulses in order, whatever the calls).
+#: before) where the call's profiles fit :data:`PROFILE_CACHE_BYTES`. Each call sets up its tiles'
+#: lines and its threads once: at 256^2 (469 pulses) the former took 0.029 s against 0.032 s with 32,
+#: at 1024^2 about 1 % less; the image is the same bits (every pixel sums its pulses in order,
+#: whatever the calls).
 PULSE_BLOCK = 128
+
+#: Pulses a call keeps at least where the profiles are long (the block before 0.30.4).
+BASE_BLOCK = 32
+
+#: Bytes of one call's profiles (complex64) above which a call takes fewer pulses, down to
+#: :data:`BASE_BLOCK`: every tile of rows reads all of them in turn, and past the cache they come
+#: from memory at every tile (at 2048^2, 9 MB of profiles a call of 128 pulses took 6.12 s against
+#: 5.71 s for 32; 64 pulses, 4.5 MB, 5.50 s against 5.54 s).
+PROFILE_CACHE_BYTES = 4.5 * 2 ** 20
 
 
 def profile_block(n_samples: int, upsample: int, block: int = PULSE_BLOCK) -> int:
     """Pulses a kernel call of :func:`backproject`: ``block``, halved (a power of two dividing it)
-    until the call's range profiles fit :data:`PROFILE_BYTES`.
+    while the call's profiles exceed :data:`PROFILE_CACHE_BYTES` (down to :data:`BASE_BLOCK`), then
+    until they fit :data:`PROFILE_BYTES`.
 
     Parameters
     ----------
@@ -599,10 +610,15 @@ def profile_block(n_samples: int, upsample: int, block: int = PULSE_BLOCK) -> in
 
     Examples
     --------
-    >>> profile_block(2000, 16), profile_block(8000, 16), profile_block(655360, 16)
-    (128, 64, 1)
+    >>> profile_block(737, 6), profile_block(1475, 6), profile_block(2950, 6)
+    (128, 64, 32)
+    >>> profile_block(2000, 16), profile_block(655360, 16)
+    (32, 1)
     """
-    per_pulse = 2 * 8.0 * profile_length(n_samples, upsample)
+    length = profile_length(n_samples, upsample)
+    while block > BASE_BLOCK and block * 8.0 * length > PROFILE_CACHE_BYTES:
+        block //= 2
+    per_pulse = 2 * 8.0 * length
     while block > 1 and block * per_pulse > PROFILE_BYTES:
         block //= 2
     return block
