@@ -30,3 +30,25 @@ def test_the_kernel_fits_give_the_same_numbers_on_one_thread():
     power = np.stack([np.polynomial.chebyshev.cheb2poly(cheb[:, b]) for b in range(8)]).astype(np.float32)
     assert np.array_equal(ffbp_leaves.polynomial_weights(8, 1.9), power)
     assert profiles.fitted_coefficients(123, 777).shape == (4, 4)
+
+
+def test_threads_entering_at_once_take_turns_and_the_counts_come_back():
+    """Limits entered from several threads at once do not restore each other's counts: after all
+    of them the process's BLAS runs on as many threads as before."""
+    import threading
+    before = _blas_threads()
+    inside = []
+
+    def work():
+        for _ in range(20):
+            with serial_blas():
+                inside.append(_blas_threads())
+                np.linalg.lstsq(np.vander(np.linspace(-1, 1, 200), 4), np.ones(200), rcond=None)
+
+    threads = [threading.Thread(target=work) for _ in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert all(n == [1] * len(before) for n in inside) and len(inside) == 80
+    assert _blas_threads() == before

@@ -14,18 +14,25 @@ own BLAS calls are left as they are.
 """
 from __future__ import annotations
 
+import contextlib
+import threading
+
 from threadpoolctl import ThreadpoolController
 
-_controller: ThreadpoolController | None = None
+#: One limit at a time: the counts are the process's, and two threads' limits interleaved would
+#: restore each other's (the fits it guards take milliseconds).
+_lock = threading.Lock()
 
 
+@contextlib.contextmanager
 def serial_blas():
     """A context in which the BLAS libraries loaded in the process run on one thread.
 
     Returns
     -------
     context manager
-        ``with serial_blas(): ...``; the previous thread counts come back on exit.
+        ``with serial_blas(): ...``; the previous thread counts come back on exit. Threads that
+        enter it at once take turns.
 
     Examples
     --------
@@ -35,7 +42,6 @@ def serial_blas():
     >>> x.tolist()
     [1.0, 1.0, 1.0]
     """
-    global _controller
-    if _controller is None:  # the libraries loaded by now (numpy's BLAS is, wherever salkit runs)
-        _controller = ThreadpoolController()
-    return _controller.limit(limits=1, user_api="blas")
+    with _lock:  # the libraries loaded by now (a millisecond's look: one loaded later is limited too)
+        with ThreadpoolController().limit(limits=1, user_api="blas"):
+            yield
